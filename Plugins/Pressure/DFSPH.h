@@ -1,0 +1,46 @@
+// Divergence-free SPH after
+//   J. Bender, D. Koschier: Divergence-Free SPH for Incompressible and Viscous Fluids.
+//   IEEE Transactions on Visualization and Computer Graphics 23(3), 2017,
+// with the boundary handling of
+//   J. Bender, L. Westhofen, S. R. Jeske: Consistent SPH Rigid-Fluid Coupling. VMV 2023.
+// Unknowns are beta_i = p_i / rho_i^2 = lambda_i / rho_i (paper Section 3.4.1).
+#pragma once
+#include <vector>
+
+#include "Simulation/Params.h"
+#include "Simulation/PressureSolver.h"
+
+namespace consph {
+
+class DFSPH final : public PressureSolver {
+ public:
+  DFSPH(const Params& params, FluidModel& fluid);
+  void beforeNonPressureForces(StepContext& ctx) override;
+  void solve(StepContext& ctx) override;
+  static std::vector<ParamSpec> parameters();
+
+ private:
+  struct Settings {
+    Real maxError;            // fraction of rho0 (average compression)
+    Real maxErrorDivergence;  // fraction of rho0 per time step
+    int minIterations, maxIterations, maxIterationsDivergence;
+    bool divergenceSolver, warmStart;
+  } settings_;
+
+  void computeDiagonal(StepContext& ctx);
+  // Applies (a scaled half of) last step's accumulated beta, or zeroes it.
+  void warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale);
+  // Source of the density solve (rho* - rho0, Eq. 6) or of the divergence solve (D rho / Dt);
+  // returns the average error as a fraction of rho0 (times dt for divergence).
+  Real computeSources(StepContext& ctx, bool divergence);
+  // v_i -= dt (sum_j m_j (k_i + k_j) grad W_ij + boundary term), Eqs. (16)/(33).
+  void applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k);
+
+  std::vector<Real>& densityBeta_;     // accumulated beta of the density solve (warm start), sorted field
+  std::vector<Real>& divergenceBeta_;  // accumulated beta of the divergence solve, sorted field
+  std::vector<Real> invDiagonal_;      // 1 / D_i (Eq. 32 without the -dt / rho_i^2 factor)
+  std::vector<Real> source_;           // per-particle source of the current iteration
+  std::vector<Real> increment_;        // beta increment of the current iteration
+};
+
+}  // namespace consph

@@ -1,0 +1,20 @@
+// Weakly compressible SPH after
+//   M. Becker, M. Teschner: Weakly compressible SPH for free surface flows. SCA 2007.
+// Pressure from the Tait equation p = k ((rho / rho0)^gamma - 1), clamped at 0; explicit.
+#pragma once
+#include "Simulation/Params.h"
+#include "Simulation/PressureSolver.h"
+
+namespace consph {
+
+class WCSPH final : public PressureSolver {
+ public:
+  explicit WCSPH(const Params& params);
+  void solve(StepContext& ctx) override;
+  static std::vector<ParamSpec> parameters();
+
+ private:
+  Real stiffness_, exponent_;
+};
+
+}  // namespace consph

@@ -1,0 +1,50 @@
+// Cubic spline kernel in 3D with support radius h (SPlisHSPlasH convention: h = 4 r).
+// W(q) = k (6q^3 - 6q^2 + 1) for q <= 1/2, 2k (1 - q)^3 for 1/2 < q <= 1, k = 8 / (pi h^3).
+#pragma once
+#include <cmath>
+#include <numbers>
+
+#include "Simulation/Common.h"
+
+namespace consph {
+
+class CubicSplineKernel {
+ public:
+  explicit CubicSplineKernel(Real supportRadius = Real(0.1)) { setSupportRadius(supportRadius); }
+
+  void setSupportRadius(Real h) {
+    h_ = h;
+    invH_ = Real(1) / h;
+    const Real pi = std::numbers::pi_v<Real>;
+    k_ = Real(8) / (pi * h * h * h);
+    l_ = Real(48) / (pi * h * h * h);
+    w0_ = W(Real(0));
+  }
+  Real supportRadius() const { return h_; }
+  Real W0() const { return w0_; }
+
+  Real W(Real r) const {
+    const Real q = r * invH_;
+    if (q > Real(1)) return Real(0);
+    if (q <= Real(0.5)) return k_ * (Real(6) * q * q * q - Real(6) * q * q + Real(1));
+    const Real t = Real(1) - q;
+    return k_ * Real(2) * t * t * t;
+  }
+  Real W(const Vector3r& x) const { return W(x.norm()); }
+
+  // grad W(x) with x = x_i - x_j (points from j to i).
+  Vector3r gradW(const Vector3r& x) const {
+    const Real r = x.norm();
+    const Real q = r * invH_;
+    if (q > Real(1) || r < Real(1e-9) * h_) return Vector3r::Zero();
+    const Vector3r gradQ = x * (invH_ / r);
+    if (q <= Real(0.5)) return (l_ * q * (Real(3) * q - Real(2))) * gradQ;
+    const Real t = Real(1) - q;
+    return (-l_ * t * t) * gradQ;
+  }
+
+ private:
+  Real h_ = 0, invH_ = 0, k_ = 0, l_ = 0, w0_ = 0;
+};
+
+}  // namespace consph

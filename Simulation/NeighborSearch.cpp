@@ -1,0 +1,120 @@
+#include "Simulation/NeighborSearch.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace consph {
+
+void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
+  invCellSize_ = Real(1) / cellSize;
+  std::size_t tableSize = 64;
+  while (tableSize < 2 * n) tableSize <<= 1;
+  tableMask_ = Index(tableSize - 1);
+  keys_.resize(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i)
+    keys_[i] = bucket(cellCoord(points[i][0]), cellCoord(points[i][1]), cellCoord(points[i][2]));
+  // Counting sort by bucket: O(n), serial, a small fraction of the neighbour-list build.
+  cellStart_.assign(tableSize + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++cellStart_[keys_[i] + 1];
+  std::partial_sum(cellStart_.begin(), cellStart_.end(), cellStart_.begin());
+  sortedIndex_.resize(n);
+  sortedPoints_.resize(n);
+  std::vector<Index> cursor(cellStart_.begin(), cellStart_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Index s = cursor[keys_[i]]++;
+    sortedIndex_[s] = Index(i);
+    sortedPoints_[s] = points[i];
+  }
+}
+
+void buildNeighborLists(const PointGrid& grid, const Vector3r* targets, const Vector3r* queries, std::size_t n,
+                        const CubicSplineKernel& kernel, bool excludeSelf, NeighborLists& out) {
+  const Real h = kernel.supportRadius();
+  out.offsets.assign(n + 1, 0);
+  const int maxThreads = omp_get_max_threads();
+  std::vector<std::vector<Index>> buffers(maxThreads);
+  std::vector<std::size_t> chunkBegin(maxThreads + 1, n);
+#pragma omp parallel
+  {
+    // Static chunks in thread order: concatenating the per-thread buffers gives the CSR array.
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const std::size_t b = n * t / nt, e = n * (t + 1) / nt;
+    chunkBegin[t] = b;
+    auto& buf = buffers[t];
+    buf.reserve((e - b) * 48);
+    for (std::size_t i = b; i < e; ++i) {
+      const Vector3r& xi = queries[i];
+      const std::size_t before = buf.size();
+      grid.forEachNeighbor(xi, h, [&](Index j, const Vector3r&) {
+        if (!(excludeSelf && j == i)) buf.push_back(j);
+      });
+      // Ascending neighbour order: reproducible sums, and memory-order access after Z-sorting.
+      std::sort(buf.begin() + before, buf.end());
+      out.offsets[i + 1] = Index(buf.size() - before);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
+  out.indices.resize(out.offsets[n]);
+  out.gradW.resize(out.offsets[n]);
+#pragma omp parallel for schedule(static, 1)
+  for (int t = 0; t < maxThreads; ++t) {
+    const auto& buf = buffers[t];
+    if (!buf.empty()) std::copy(buf.begin(), buf.end(), out.indices.begin() + out.offsets[chunkBegin[t]]);
+  }
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i)
+    for (Index e = out.offsets[i]; e < out.offsets[i + 1]; ++e)
+      out.gradW[e] = kernel.gradW(queries[i] - targets[out.indices[e]]);
+}
+
+namespace {
+std::uint64_t spreadBits(std::uint64_t v) {  // 21 bits -> every third bit
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffull;
+  v = (v | v << 16) & 0x1f0000ff0000ffull;
+  v = (v | v << 8) & 0x100f00f00f00f00full;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ull;
+  v = (v | v << 2) & 0x1249249249249249ull;
+  return v;
+}
+}  // namespace
+
+std::vector<Index> zOrderPermutation(const Vector3r* points, std::size_t n, Real cellSize) {
+  std::vector<Index> order(n);
+  if (n == 0) return order;
+  Vector3r lo = points[0];
+  for (std::size_t i = 1; i < n; ++i) lo = lo.cwiseMin(points[i]);
+  std::vector<std::pair<std::uint64_t, Index>> keyed(n);
+  const Real inv = Real(1) / cellSize;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
+    const Vector3r c = (points[i] - lo) * inv;
+    std::uint64_t key = 0;
+    for (int d = 0; d < 3; ++d) key |= spreadBits(std::uint64_t(std::max<Real>(c[d], 0))) << d;
+    keyed[i] = {key, Index(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  for (std::size_t i = 0; i < n; ++i) order[i] = keyed[i].second;
+  return order;
+}
+
+void transposeNeighborLists(const NeighborLists& lists, std::size_t nTargets, NeighborLists& out) {
+  const std::size_t n = lists.queryCount();
+  out.offsets.assign(nTargets + 1, 0);
+  for (Index j : lists.indices) ++out.offsets[j + 1];
+  std::partial_sum(out.offsets.begin(), out.offsets.end(), out.offsets.begin());
+  out.indices.resize(lists.indices.size());
+  out.gradW.resize(lists.gradW.size());
+  std::vector<Index> cursor(out.offsets.begin(), out.offsets.end() - 1);
+  for (std::size_t i = 0; i < n; ++i)
+    for (Index e = lists.begin(i); e < lists.end(i); ++e) {
+      const Index s = cursor[lists.indices[e]]++;
+      out.indices[s] = Index(i);
+      if (!lists.gradW.empty()) out.gradW[s] = -lists.gradW[e];
+    }
+}
+
+}  // namespace consph

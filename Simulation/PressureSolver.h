@@ -1,0 +1,29 @@
+// Interface of pressure solvers (DFSPH, IISPH, WCSPH, ...).
+#pragma once
+#include "Simulation/StepContext.h"
+
+namespace consph {
+
+struct PressureSolverStats {
+  int pressureIterations = 0;    // last step
+  int divergenceIterations = 0;  // last step
+  Real densityError = 0;         // last predicted average compression (fraction of rho0)
+  Real divergenceError = 0;      // last average divergence error (fraction of rho0)
+  bool hitIterationCap = false;  // last step ended at maxIterations without converging
+};
+
+class PressureSolver {
+ public:
+  virtual ~PressureSolver() = default;
+  // After densities, before non-pressure forces (DFSPH's divergence solve lives here).
+  virtual void beforeNonPressureForces(StepContext& ctx) {}
+  // Called with v = v* = v(t) + dt a^np (Eq. 4); leaves v(t + dt) in fluid.velocities and the
+  // pressure in fluid.pressures.
+  virtual void solve(StepContext& ctx) = 0;
+  const PressureSolverStats& stats() const { return stats_; }
+
+ protected:
+  PressureSolverStats stats_;
+};
+
+}  // namespace consph

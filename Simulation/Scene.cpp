@@ -1,0 +1,266 @@
+#include "Simulation/Scene.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "Utilities/Error.h"
+
+namespace consph {
+
+const char* boundaryPressureName(BoundaryPressure b) {
+  switch (b) {
+    case BoundaryPressure::Consistent: return "consistent";
+    case BoundaryPressure::Mirroring: return "mirroring";
+    case BoundaryPressure::Extrapolation: return "extrapolation";
+  }
+  return "?";
+}
+
+json readJsonFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot open scene file '" + path + "'");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  try {
+    return json::parse(text);
+  } catch (const json::parse_error& e) {
+    // Line and column of the offending byte.
+    std::size_t line = 1, column = 1;
+    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+    }
+    std::string what = e.what();
+    const auto colon = what.find(": ", what.find("parse error"));
+    if (colon != std::string::npos) what = what.substr(colon + 2);
+    throw InputError(path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": malformed JSON: " + what);
+  }
+}
+
+void applyOverride(json& scene, const std::string& dottedPath, const std::string& valueText) {
+  json value;
+  try {
+    value = json::parse(valueText);
+  } catch (const json::parse_error&) {
+    value = valueText;  // --set x.type=WCSPH: a bare word is a string
+  }
+  json* node = &scene;
+  std::stringstream parts(dottedPath);
+  std::string part, walked;
+  std::vector<std::string> keys;
+  while (std::getline(parts, part, '.')) keys.push_back(part);
+  if (keys.empty() || dottedPath.empty()) throw InputError("--set: empty key path");
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const std::string& k = keys[i];
+    walked += (walked.empty() ? "" : ".") + k;
+    const bool last = i + 1 == keys.size();
+    if (node->is_array()) {
+      std::size_t idx = 0;
+      try {
+        idx = std::stoul(k);
+      } catch (...) {
+        throw InputError("--set " + dottedPath + ": '" + walked + "' indexes an array; use a number");
+      }
+      if (idx >= node->size()) throw InputError("--set " + dottedPath + ": index " + k + " is past the end of the array");
+      node = &(*node)[idx];
+    } else {
+      if (node->is_null()) *node = json::object();
+      if (!node->is_object()) throw InputError("--set " + dottedPath + ": '" + walked + "' is inside a non-object value");
+      node = &(*node)[k];
+    }
+    if (last) *node = value;
+  }
+}
+
+namespace {
+
+std::string at(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
+
+const json& child(const json& object, const std::string& key) {
+  static const json null;
+  if (!object.is_object()) return null;
+  auto it = object.find(key);
+  return it == object.end() ? null : *it;
+}
+
+void expectObject(const json& v, const std::string& path) {
+  if (!v.is_object()) throw InputError(path + ": expected an object");
+}
+
+std::string resolvePath(const std::string& baseDir, const std::string& file) {
+  std::filesystem::path p(file);
+  if (p.is_relative()) p = std::filesystem::path(baseDir) / p;
+  return p.lexically_normal().string();
+}
+
+BoundaryObject parseBoundary(const json& b, const std::string& path, const std::string& baseDir, const LogSink& log) {
+  expectObject(b, path);
+  const bool hasBox = b.contains("box"), hasMesh = b.contains("mesh");
+  if (hasBox == hasMesh) throw InputError(path + ": give exactly one of \"box\" or \"mesh\"");
+  Params p(b, path,
+           {{"name", ParamType::String, "", "name of the object (for output and messages)"},
+            {"mesh", ParamType::String, "", "mesh file (OBJ, PLY, STL, ...), relative to the scene file"},
+            {"translation", ParamType::Vector3, json::array({0, 0, 0}), "translation, m"},
+            {"rotationAxis", ParamType::Vector3, json::array({0, 0, 1}), "rotation axis"},
+            {"rotationAngle", ParamType::Real, 0.0, "rotation angle about rotationAxis, radians"},
+            {"scale", ParamType::Vector3, json::array({1, 1, 1}), "scale per axis, applied first"},
+            {"inverted", ParamType::Bool, false, "the fluid is inside the object (a container)"}},
+           log, {"box"});
+  BoundaryObject o;
+  o.name = p.string("name");
+  o.inverted = p.boolean("inverted");
+  const Vector3r translation = p.vector3("translation"), scale = p.vector3("scale"), axis = p.vector3("rotationAxis");
+  const Real angle = p.real("rotationAngle");
+  if (hasBox) {
+    Params box(b["box"], at(path, "box"),
+               {{"min", ParamType::Vector3, json(), "lower corner, m"}, {"max", ParamType::Vector3, json(), "upper corner, m"}},
+               log, {});
+    Vector3r lo = box.vector3("min"), hi = box.vector3("max");
+    if ((hi - lo).minCoeff() <= 0) throw InputError(at(path, "box") + ": max must exceed min on every axis");
+    o.mesh = makeBoxMesh(lo, hi, o.inverted);
+    if (angle == 0 && scale.minCoeff() > 0) {  // still axis-aligned: sample it on face grids
+      o.isBox = true;
+      o.boxMin = lo.cwiseProduct(scale) + translation;
+      o.boxMax = hi.cwiseProduct(scale) + translation;
+    }
+  } else {
+    o.mesh = loadMesh(resolvePath(baseDir, p.string("mesh")));
+    if (o.inverted)
+      for (auto& t : o.mesh.triangles) std::swap(t[1], t[2]);
+  }
+  transformMesh(o.mesh, scale, axis, angle, translation);
+  return o;
+}
+
+}  // namespace
+
+SceneDescription parseScene(const json& scene, const std::string& baseDir, const LogSink& log) {
+  if (!scene.is_object()) throw InputError("scene: expected a JSON object at the top level");
+  SceneDescription s;
+  s.raw = scene;
+  s.baseDir = baseDir;
+  Params top(scene, "", {}, log, {"name", "description", "simulation", "fluids", "boundaries", "output"});
+  (void)top;
+
+  // simulation
+  const json& sim = child(scene, "simulation");
+  if (!sim.is_null()) expectObject(sim, "simulation");
+  Params sp(sim, "simulation",
+            {{"particleRadius", ParamType::Real, 0.025, "particle radius r, m (kernel support 4r)", 1e-5, 10},
+             {"gravity", ParamType::Vector3, json::array({0, -9.81, 0}), "gravitational acceleration, m/s^2"},
+             {"cflFactor", ParamType::Real, 1.0, "dt = cflFactor 0.4 (2r) / max|v|", 1e-3, 10},
+             {"minTimeStep", ParamType::Real, 1e-4, "lower bound of the adaptive time step, s", 1e-8, 1},
+             {"maxTimeStep", ParamType::Real, 0.005, "upper bound of the adaptive time step, s", 1e-8, 1},
+             {"initialTimeStep", ParamType::Real, 0.001, "time step of the first step, s", 1e-8, 1},
+             {"stopAt", ParamType::Real, 1.0, "simulated end time, s", 0, 1e9},
+             {"sortInterval", ParamType::Int, 50, "re-sort particles in Z-order every this many steps (0: never)", 0, 1e9},
+             {"iterationCapSteps", ParamType::Int, 100, "stop when the pressure solver hits its iteration cap this many steps in a row", 1, 1e9},
+             {"boundaryPressure", ParamType::String, "consistent", "boundary neighbours in the pressure solve",
+              -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+              {"consistent", "mirroring", "extrapolation"}}},
+            log, {"pressureSolver", "boundaryModel", "domain"});
+  s.particleRadius = sp.real("particleRadius");
+  s.gravity = sp.vector3("gravity");
+  s.cflFactor = sp.real("cflFactor");
+  s.minTimeStep = sp.real("minTimeStep");
+  s.maxTimeStep = sp.real("maxTimeStep");
+  s.initialTimeStep = sp.real("initialTimeStep");
+  if (s.minTimeStep > s.maxTimeStep) throw InputError("simulation.minTimeStep: must not exceed simulation.maxTimeStep");
+  s.stopAt = sp.real("stopAt");
+  s.sortInterval = sp.integer("sortInterval");
+  s.iterationCapSteps = sp.integer("iterationCapSteps");
+  const std::string bp = sp.string("boundaryPressure");
+  s.boundaryPressure = bp == "mirroring" ? BoundaryPressure::Mirroring
+                       : bp == "extrapolation" ? BoundaryPressure::Extrapolation
+                                               : BoundaryPressure::Consistent;
+  s.pressureSolver = child(sim, "pressureSolver");
+  if (s.pressureSolver.is_null()) s.pressureSolver = {{"type", "DFSPH"}};
+  if (s.pressureSolver.is_string()) s.pressureSolver = {{"type", s.pressureSolver}};
+  s.boundaryModel = child(sim, "boundaryModel");
+  if (s.boundaryModel.is_null()) s.boundaryModel = {{"type", "Akinci2012"}};
+  if (s.boundaryModel.is_string()) s.boundaryModel = {{"type", s.boundaryModel}};
+  for (auto* plugin : {&s.pressureSolver, &s.boundaryModel}) {
+    const std::string path = plugin == &s.pressureSolver ? "simulation.pressureSolver" : "simulation.boundaryModel";
+    expectObject(*plugin, path);
+    if (!plugin->contains("type") || !(*plugin)["type"].is_string()) throw InputError(path + ".type: required string is missing");
+  }
+  if (const json& d = child(sim, "domain"); !d.is_null()) {
+    Params dp(d, "simulation.domain",
+              {{"min", ParamType::Vector3, json(), "lower corner, m"}, {"max", ParamType::Vector3, json(), "upper corner, m"}}, log, {});
+    s.hasDomain = true;
+    s.domainMin = dp.vector3("min");
+    s.domainMax = dp.vector3("max");
+  }
+
+  // fluids
+  const json& fluids = child(scene, "fluids");
+  if (!fluids.is_array() || fluids.empty()) throw InputError("fluids: expected a non-empty array of fluids");
+  if (fluids.size() > 1) throw InputError("fluids: only one fluid per scene is supported in this version");
+  for (std::size_t f = 0; f < fluids.size(); ++f) {
+    const std::string path = "fluids[" + std::to_string(f) + "]";
+    expectObject(fluids[f], path);
+    Params fp(fluids[f], path,
+              {{"name", ParamType::String, "fluid", "name of the fluid (output files, Python)"},
+               {"density0", ParamType::Real, 1000.0, "rest density rho0, kg/m^3", 1e-3, 1e6}},
+              log, {"forces", "blocks"});
+    FluidDescription fd;
+    fd.name = fp.string("name");
+    fd.density0 = fp.real("density0");
+    fd.path = path;
+    fd.forces = child(fluids[f], "forces");
+    if (fd.forces.is_null()) fd.forces = json::array();
+    if (!fd.forces.is_array()) throw InputError(path + ".forces: expected an array of force objects");
+    for (std::size_t i = 0; i < fd.forces.size(); ++i) {
+      const std::string fpth = path + ".forces[" + std::to_string(i) + "]";
+      expectObject(fd.forces[i], fpth);
+      if (!fd.forces[i].contains("type") || !fd.forces[i]["type"].is_string()) throw InputError(fpth + ".type: required string is missing");
+    }
+    const json& blocks = child(fluids[f], "blocks");
+    if (!blocks.is_array() || blocks.empty()) throw InputError(path + ".blocks: expected a non-empty array of blocks");
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      const std::string bpth = path + ".blocks[" + std::to_string(b) + "]";
+      Params bp2(blocks[b], bpth,
+                 {{"min", ParamType::Vector3, json(), "lower corner, m"},
+                  {"max", ParamType::Vector3, json(), "upper corner, m"},
+                  {"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity, m/s"}},
+                 log, {});
+      FluidBlock block{bp2.vector3("min"), bp2.vector3("max"), bp2.vector3("velocity")};
+      if ((block.max - block.min).minCoeff() <= 0) throw InputError(bpth + ": max must exceed min on every axis");
+      fd.blocks.push_back(block);
+    }
+    s.fluids.push_back(std::move(fd));
+  }
+
+  // boundaries
+  const json& boundaries = child(scene, "boundaries");
+  if (!boundaries.is_null() && !boundaries.is_array()) throw InputError("boundaries: expected an array");
+  for (std::size_t b = 0; b < boundaries.size(); ++b)
+    s.boundaries.push_back(parseBoundary(boundaries[b], "boundaries[" + std::to_string(b) + "]", baseDir, log));
+
+  // output
+  const json& out = child(scene, "output");
+  Params op(out, "output",
+            {{"enabled", ParamType::Bool, true, "write frames"},
+             {"directory", ParamType::String, "output", "output folder (relative to the working directory)"},
+             {"fps", ParamType::Real, 25.0, "frames per simulated second", 1e-3, 1e6}},
+            log, {});
+  s.output.enabled = op.boolean("enabled");
+  s.output.directory = op.string("directory");
+  s.output.fps = op.real("fps");
+  return s;
+}
+
+SceneDescription loadSceneFile(const std::string& path, const std::vector<std::pair<std::string, std::string>>& overrides,
+                               const LogSink& log) {
+  json scene = readJsonFile(path);
+  for (auto& [key, value] : overrides) applyOverride(scene, key, value);
+  return parseScene(scene, std::filesystem::path(path).parent_path().string(), log);
+}
+
+}  // namespace consph

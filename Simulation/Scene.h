@@ -1,0 +1,64 @@
+// The scene file: JSON parsed into plain data first, objects built second (pbrt's way).
+// Every key is documented in docs/scene-format.md.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "Simulation/BoundaryModel.h"
+#include "Simulation/Params.h"
+#include "Simulation/StepContext.h"
+
+namespace consph {
+
+struct FluidBlock {
+  Vector3r min, max;  // m, the block is filled on a cubic lattice of spacing 2r
+  Vector3r velocity;  // initial velocity, m/s
+};
+
+struct FluidDescription {
+  std::string name;
+  Real density0;     // rest density rho0, kg/m^3
+  json forces;       // array of plugin objects, applied in this order
+  std::string path;  // JSON path of this fluid, for messages
+  std::vector<FluidBlock> blocks;
+};
+
+struct OutputSettings {
+  bool enabled = true;
+  std::string directory = "output";
+  Real fps = 25;
+};
+
+struct SceneDescription {
+  json raw;             // the whole scene after overrides
+  std::string baseDir;  // relative mesh paths are resolved against the scene's folder
+
+  Real particleRadius = Real(0.025);
+  Vector3r gravity = Vector3r(0, Real(-9.81), 0);
+  Real cflFactor = 1, minTimeStep = Real(1e-4), maxTimeStep = Real(0.005), initialTimeStep = Real(0.001);
+  Real stopAt = 1;
+  int sortInterval = 50;
+  int iterationCapSteps = 100;  // stop when the solver hit its cap this many steps in a row
+  BoundaryPressure boundaryPressure = BoundaryPressure::Consistent;
+  json pressureSolver;  // {"type": ..., params}
+  json boundaryModel;   // {"type": ..., params}
+  bool hasDomain = false;
+  Vector3r domainMin = Vector3r::Zero(), domainMax = Vector3r::Zero();
+
+  std::vector<FluidDescription> fluids;
+  std::vector<BoundaryObject> boundaries;
+  OutputSettings output;
+};
+
+// Reads a JSON file; malformed JSON -> InputError "FILE:LINE:COLUMN: ...".
+json readJsonFile(const std::string& path);
+
+// Sets the value at a dotted path ("simulation.pressureSolver.maxError", array items by index:
+// "fluids.0.density0"). `valueText` is parsed as JSON, or taken as a string when it is not JSON.
+void applyOverride(json& scene, const std::string& dottedPath, const std::string& valueText);
+
+SceneDescription parseScene(const json& scene, const std::string& baseDir, const LogSink& log);
+SceneDescription loadSceneFile(const std::string& path, const std::vector<std::pair<std::string, std::string>>& overrides,
+                               const LogSink& log);
+
+}  // namespace consph

@@ -1,0 +1,344 @@
+#include "Simulation/Simulation.h"
+
+#include <omp.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "Utilities/Timer.h"
+#include "Utilities/VtkWriter.h"
+
+namespace consph {
+
+Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, LogSink log)
+    : scene_(std::move(scene)), plugins_(plugins), log_(std::move(log)), kernel_(4 * scene_.particleRadius) {
+  const FluidDescription& fd = scene_.fluids.at(0);
+  fluid_ = std::make_unique<FluidModel>(fd.name, fd.density0);
+  initializeFluid();
+
+  const PluginContext context{fluid_.get(), scene_.particleRadius, kernel_.supportRadius(), log_};
+  boundaryModel_ = plugins_.boundaryModels.create(scene_.boundaryModel["type"].get<std::string>(), scene_.boundaryModel,
+                                                  "simulation.boundaryModel", context, log_);
+  boundaryModel_->initialize(scene_.boundaries, fluid_->density0(), kernel_);
+  pressureSolver_ = plugins_.pressureSolvers.create(scene_.pressureSolver["type"].get<std::string>(), scene_.pressureSolver,
+                                                    "simulation.pressureSolver", context, log_);
+  for (std::size_t i = 0; i < fd.forces.size(); ++i)
+    forces_.push_back(plugins_.forces.create(fd.forces[i]["type"].get<std::string>(), fd.forces[i],
+                                             fd.path + ".forces[" + std::to_string(i) + "]", context, log_));
+
+  // Escape domain: the scene's, or the boundaries' bounding box with a margin.
+  if (scene_.hasDomain) {
+    hasDomain_ = true;
+    domainMin_ = scene_.domainMin;
+    domainMax_ = scene_.domainMax;
+  } else if (!scene_.boundaries.empty()) {
+    hasDomain_ = true;
+    domainMin_ = Vector3r::Constant(std::numeric_limits<Real>::max());
+    domainMax_ = -domainMin_;
+    for (auto& b : scene_.boundaries) {
+      Vector3r lo, hi;
+      b.mesh.boundingBox(lo, hi);
+      domainMin_ = domainMin_.cwiseMin(lo);
+      domainMax_ = domainMax_.cwiseMax(hi);
+    }
+    const Vector3r margin = Real(0.05) * (domainMax_ - domainMin_) + Vector3r::Constant(kernel_.supportRadius());
+    domainMin_ -= margin;
+    domainMax_ += margin;
+  }
+  dt_ = dtPrevious_ = scene_.initialTimeStep;
+  if (scene_.output.enabled) setOutputDirectory(scene_.output.directory);
+}
+
+Simulation::~Simulation() = default;
+
+void Simulation::initializeFluid() {
+  // Blocks are filled on a cubic lattice of spacing 2r, one particle per cell of volume (2r)^3:
+  // the block starts at rest density (rho/rho0 = 0.99997 inside), with its true volume and mass.
+  const Real r = scene_.particleRadius, d = 2 * r;
+  std::vector<Vector3r> x, v;
+  for (const FluidBlock& b : scene_.fluids[0].blocks) {
+    int n[3];
+    for (int a = 0; a < 3; ++a) n[a] = std::max(1, int(std::floor((b.max[a] - b.min[a]) / d + Real(1e-4))));
+    for (int i = 0; i < n[0]; ++i)
+      for (int j = 0; j < n[1]; ++j)
+        for (int k = 0; k < n[2]; ++k) {
+          x.push_back(b.min + Vector3r(r + d * i, r + d * j, r + d * k));
+          v.push_back(b.velocity);
+        }
+  }
+  FluidModel& f = *fluid_;
+  f.resize(x.size());
+  const Real mass = f.density0() * d * d * d;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    f.positions[i] = x[i];
+    f.velocities[i] = v[i];
+    f.masses[i] = mass;
+    f.ids[i] = Index(i);
+  }
+}
+
+StepContext Simulation::makeContext() {
+  return StepContext{*fluid_,        boundaryModel_->samples(), fluidNeighbors_, boundaryNeighbors_, kernel_,
+                     scene_.boundaryPressure, scene_.gravity, scene_.particleRadius, dt_, dtPrevious_,
+                     time_,          stats_.steps,              log_};
+}
+
+void Simulation::step() {
+  if (stats_.steps == 0 && writer_) writeFrameIfDue();  // frame 0: the initial state
+  Timer stepTimer;
+  StepContext ctx = makeContext();
+
+  // Neighbours: once per step, reused by every loop below.
+  {
+    ScopedTimer t(stats_.neighbourSearch);
+    findNeighbors();
+  }
+  // Densities, Eq. (14).
+  {
+    ScopedTimer t(stats_.densities);
+    computeDensities();
+  }
+  // DFSPH's divergence solve (no-op for other solvers).
+  {
+    ScopedTimer t(stats_.divergenceSolve);
+    pressureSolver_->beforeNonPressureForces(ctx);
+  }
+  // Non-pressure forces in scene order.
+  {
+    ScopedTimer t(stats_.nonPressureForces);
+    computeNonPressureAccelerations(ctx);
+  }
+  // Adaptive time step (CFL), then v* = v + dt a^np, Eq. (4).
+  updateTimeStep();
+  ctx.dt = dt_;
+  {
+    FluidModel& f = *fluid_;
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) f.velocities[i] += dt_ * f.accelerations[i];
+  }
+  // Pressure solve: v* -> v(t + dt).
+  {
+    ScopedTimer t(stats_.pressureSolve);
+    pressureSolver_->solve(ctx);
+  }
+  const PressureSolverStats& ps = pressureSolver_->stats();
+  stats_.pressureIterations += ps.pressureIterations;
+  stats_.divergenceIterations += ps.divergenceIterations;
+  // Rigid-body coupling goes here (dynamic bodies).
+  // Integration: x(t + dt) = x(t) + dt v(t + dt).
+  {
+    ScopedTimer t(stats_.integration);
+    integrate();
+  }
+  dtPrevious_ = dt_;
+  time_ += dt_;
+  ++stats_.steps;
+  if (ps.hitIterationCap) {
+    ++stats_.iterationCapHits;
+    ++stats_.consecutiveCapHits;
+    if (stats_.iterationCapHits <= 5 || stats_.iterationCapHits % 100 == 0)
+      log_(LogLevel::Warning, "step " + std::to_string(stats_.steps) + ", t = " + std::to_string(time_) +
+                                  " s: pressure solver hit its iteration cap (density error " +
+                                  std::to_string(100 * ps.densityError) + " %)");
+  } else {
+    stats_.consecutiveCapHits = 0;
+  }
+  checkState();
+  stats_.wallSeconds += stepTimer.seconds();
+  if (writer_) {
+    ScopedTimer t(stats_.exportTime);
+    writeFrameIfDue();
+  }
+}
+
+void Simulation::run(Real until, const std::function<void(const Simulation&)>& progress) {
+  // Stop half a minimum step early: no sliver of a step at the end.
+  while (time_ < until - Real(0.5) * scene_.minTimeStep) {
+    step();
+    if (progress) progress(*this);
+  }
+}
+
+void Simulation::findNeighbors() {
+  FluidModel& f = *fluid_;
+  // Z-order sort every sortInterval steps: neighbours in space become neighbours in memory.
+  if (scene_.sortInterval > 0 && stats_.steps % std::size_t(scene_.sortInterval) == 0) {
+    const auto order = zOrderPermutation(f.positions.data(), f.size(), kernel_.supportRadius());
+    f.fields().permuteSorted(order);
+  }
+  fluidGrid_.build(f.positions.data(), f.size(), kernel_.supportRadius());
+  buildNeighborLists(fluidGrid_, f.positions.data(), f.positions.data(), f.size(), kernel_, true, fluidNeighbors_);
+  boundaryModel_->findNeighbors(f, kernel_, boundaryNeighbors_);
+}
+
+void Simulation::computeDensities() {
+  FluidModel& f = *fluid_;
+  const BoundarySamples& b = boundaryModel_->samples();
+  const Real rho0 = f.density0();
+  double errorSum = 0, errorMax = 0;
+#pragma omp parallel for schedule(static) reduction(+ : errorSum) reduction(max : errorMax)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+    const Vector3r xi = f.positions[i];
+    Real rho = f.masses[i] * kernel_.W0();
+    for (Index e = fluidNeighbors_.begin(i); e < fluidNeighbors_.end(i); ++e) {
+      const Index j = fluidNeighbors_.indices[e];
+      rho += f.masses[j] * kernel_.W(xi - f.positions[j]);
+    }
+    for (Index e = boundaryNeighbors_.begin(i); e < boundaryNeighbors_.end(i); ++e) {
+      const Index k = boundaryNeighbors_.indices[e];
+      rho += b.masses[k] * kernel_.W(xi - b.positions[k]);
+    }
+    f.densities[i] = rho;
+    const double err = std::max<double>(rho - rho0, 0) / rho0;  // compression only
+    errorSum += err;
+    errorMax = std::max(errorMax, err);
+  }
+  // The density error of the state the last step produced (step 0 is the initial state).
+  if (stats_.steps > 0 && f.size() > 0) {
+    const double avg = errorSum / double(f.size());
+    stats_.densityErrorSum += avg;
+    stats_.densityErrorMax = std::max(stats_.densityErrorMax, avg);
+    ++stats_.densityErrorSamples;
+  }
+}
+
+void Simulation::computeNonPressureAccelerations(StepContext& ctx) {
+  FluidModel& f = *fluid_;
+  const Vector3r g = scene_.gravity;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) f.accelerations[i] = g;
+  for (auto& force : forces_) force->addAccelerations(ctx);
+}
+
+void Simulation::updateTimeStep() {
+  // CFL: dt = cflFactor 0.4 (2r) / max |v + dt a|, clamped to [minTimeStep, maxTimeStep].
+  FluidModel& f = *fluid_;
+  Real maxSpeed2 = 0;
+  const Real dtOld = dt_;
+#pragma omp parallel for schedule(static) reduction(max : maxSpeed2)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i)
+    maxSpeed2 = std::max(maxSpeed2, (f.velocities[i] + dtOld * f.accelerations[i]).squaredNorm());
+  Real dt = scene_.maxTimeStep;
+  if (maxSpeed2 > 0) dt = scene_.cflFactor * Real(0.4) * 2 * scene_.particleRadius / std::sqrt(maxSpeed2);
+  dt_ = std::clamp(dt, scene_.minTimeStep, scene_.maxTimeStep);
+}
+
+void Simulation::integrate() {
+  FluidModel& f = *fluid_;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) f.positions[i] += dt_ * f.velocities[i];
+}
+
+void Simulation::checkState() {
+  FluidModel& f = *fluid_;
+  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  std::ptrdiff_t firstBad = n, firstOut = n;
+#pragma omp parallel for schedule(static) reduction(min : firstBad, firstOut)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const Vector3r& x = f.positions[i];
+    if (!x.allFinite() || !f.velocities[i].allFinite() || !std::isfinite(f.pressures[i])) firstBad = std::min(firstBad, i);
+    else if (hasDomain_ && ((x - domainMin_).minCoeff() < 0 || (domainMax_ - x).minCoeff() < 0)) firstOut = std::min(firstOut, i);
+  }
+  auto where = [&](std::ptrdiff_t i) {
+    std::ostringstream s;
+    s << "step " << stats_.steps << ", t = " << time_ << " s: particle " << i << " (id " << f.ids[i] << ")";
+    return s.str();
+  };
+  if (firstBad < n) throw SimulationError(where(firstBad) + " has a non-finite position, velocity or pressure (NaN/inf): the simulation blew up");
+  if (firstOut < n) {
+    const Vector3r& x = f.positions[firstOut];
+    std::ostringstream s;
+    s << where(firstOut) << " left the domain at (" << x[0] << ", " << x[1] << ", " << x[2]
+      << "): it leaked through a boundary or the simulation blew up";
+    throw SimulationError(s.str());
+  }
+  if (stats_.consecutiveCapHits >= std::size_t(scene_.iterationCapSteps)) {
+    std::ostringstream s;
+    s << "step " << stats_.steps << ", t = " << time_ << " s: the pressure solver hit its iteration cap in "
+      << stats_.consecutiveCapHits << " steps in a row: the simulation diverges (lower the time step or raise maxIterations)";
+    throw SimulationError(s.str());
+  }
+}
+
+void Simulation::setOutputDirectory(const std::string& dir) {
+  scene_.output.directory = dir;
+  scene_.output.enabled = true;
+  writer_ = std::make_unique<VtkSeries>(dir, fluid_->name());
+  // The boundary once, for context in ParaView.
+  const BoundarySamples& b = boundaryModel_->samples();
+  if (b.size() > 0) {
+    VtuPointCloud cloud(b.positions.data(), b.size());
+    cloud.add("mass", b.masses.data(), 1);
+    cloud.add("body", b.bodies.data());
+    writeFileAtomically((std::filesystem::path(dir) / "boundary.vtu").string(), cloud.serialize());
+  }
+  nextFrame_ = std::size_t(std::ceil(time_ * scene_.output.fps - Real(1e-6)));
+}
+
+void Simulation::setOutputEnabled(bool enabled) {
+  if (!enabled) writer_.reset();
+  else if (!writer_) setOutputDirectory(scene_.output.directory);
+  scene_.output.enabled = enabled;
+}
+
+void Simulation::setOutputFps(Real fps) {
+  scene_.output.fps = fps;
+  nextFrame_ = std::size_t(std::ceil(time_ * fps - Real(1e-6)));
+}
+
+void Simulation::writeFrameIfDue() {
+  // A frame is due once the simulated time reaches index / fps (within half a step).
+  if (time_ + Real(0.5) * dt_ < Real(nextFrame_) / scene_.output.fps) return;
+  writer_->write(nextFrame_, time_, particlesToVtu(fluid_->fields(), fluid_->size()));
+  ++nextFrame_;
+}
+
+void Simulation::exportFrame(const std::string& path) {
+  writeFileAtomically(path, particlesToVtu(fluid_->fields(), fluid_->size()));
+}
+
+void Simulation::addForce(std::unique_ptr<NonPressureForce> force) { forces_.push_back(std::move(force)); }
+
+json Simulation::summary() const {
+  const auto& s = stats_;
+  const double steps = double(std::max<std::size_t>(s.steps, 1));
+  const double errSamples = double(std::max<std::size_t>(s.densityErrorSamples, 1));
+  return {
+      {"scene", scene_.raw.value("name", std::string())},
+      {"fluidParticles", fluid_->size()},
+      {"boundaryParticles", boundaryModel_->samples().size()},
+      {"steps", s.steps},
+      {"simulatedTime", time_},
+      {"wallSeconds", s.wallSeconds},
+      {"threads", omp_get_max_threads()},
+      {"precision", precisionName()},
+      {"pressureSolver", scene_.pressureSolver["type"]},
+      {"boundaryPressure", boundaryPressureName(scene_.boundaryPressure)},
+      {"averagePressureIterations", double(s.pressureIterations) / steps},
+      {"averageDivergenceIterations", double(s.divergenceIterations) / steps},
+      {"averageDensityErrorPercent", 100.0 * s.densityErrorSum / errSamples},
+      {"maxDensityErrorPercent", 100.0 * s.densityErrorMax},
+      {"iterationCapHits", s.iterationCapHits},
+      {"particlesLost", s.particlesLost},
+      {"msPerStep", 1000.0 * s.wallSeconds / steps},
+      {"usPerParticleStep", 1e6 * s.wallSeconds / steps / double(std::max<std::size_t>(fluid_->size(), 1))},
+      {"phaseSeconds",
+       {{"neighbourSearch", s.neighbourSearch},
+        {"densities", s.densities},
+        {"divergenceSolve", s.divergenceSolve},
+        {"nonPressureForces", s.nonPressureForces},
+        {"pressureSolve", s.pressureSolve},
+        {"integration", s.integration},
+        {"export", s.exportTime}}},
+  };
+}
+
+std::unique_ptr<Simulation> loadSimulation(const std::string& scenePath,
+                                           const std::vector<std::pair<std::string, std::string>>& overrides, LogSink log,
+                                           const PluginRegistry& plugins) {
+  SceneDescription scene = loadSceneFile(scenePath, overrides, log);
+  return std::make_unique<Simulation>(std::move(scene), plugins, std::move(log));
+}
+
+}  // namespace consph

@@ -1,0 +1,45 @@
+// Everything a plugin needs during one step, passed explicitly (no global simulation object).
+#pragma once
+#include <cstddef>
+
+#include "Simulation/BoundarySamples.h"
+#include "Simulation/FluidModel.h"
+#include "Simulation/Kernel.h"
+#include "Simulation/NeighborSearch.h"
+#include "Utilities/Log.h"
+
+namespace consph {
+
+// How boundary neighbours enter the pressure solve (paper Sections 3.3 and 3.4.2).
+enum class BoundaryPressure {
+  Consistent,    // Eqs. (29)-(34): no boundary pressure at all
+  Mirroring,     // p_k = p_i, a_k^p = 0 (Akinci 2012)
+  Extrapolation  // p_k from an MLS fit of fluid pressures (Band et al. 2018), a_k^p = 0
+};
+const char* boundaryPressureName(BoundaryPressure b);
+
+struct StepContext {
+  FluidModel& fluid;
+  BoundarySamples& boundary;
+  const NeighborLists& fluidNeighbors;     // fluid i -> fluid j (j != i)
+  const NeighborLists& boundaryNeighbors;  // fluid i -> boundary sample k
+  const CubicSplineKernel& kernel;
+  BoundaryPressure boundaryPressure;
+  Vector3r gravity;
+  Real particleRadius;
+  Real dt;          // this step's time step (set before the pressure solve)
+  Real dtPrevious;  // the previous step's (warm starts scale by it)
+  Real time;
+  std::size_t step;
+  const LogSink& log;
+};
+
+// Passed to plugin factories: what a plugin may look at when it is created.
+struct PluginContext {
+  FluidModel* fluid;  // the fluid a force belongs to; every fluid for solvers (single fluid today)
+  Real particleRadius;
+  Real supportRadius;
+  const LogSink& log;
+};
+
+}  // namespace consph

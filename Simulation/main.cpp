@@ -1,0 +1,176 @@
+// The consph command line: run a scene, list plugins.
+#include <omp.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "Simulation/Simulation.h"
+#include "Utilities/Error.h"
+#include "Utilities/Progress.h"
+#include "Utilities/VtkWriter.h"
+
+using namespace consph;
+
+namespace {
+
+const char* kUsage =
+    "usage: consph [run] [SCENE] [options]       run SCENE (default: data/scenes/DamBreak.json)\n"
+    "       consph --list-plugins [--json]      list every plugin with its parameters\n"
+    "options:\n"
+    "  --stop-at T            simulated end time in seconds (default: the scene's simulation.stopAt)\n"
+    "  --output-dir D         write frames to D (default: the scene's output.directory)\n"
+    "  --fps N                frames per simulated second\n"
+    "  --no-output            write no frames\n"
+    "  --threads N            OpenMP threads (default: all cores)\n"
+    "  --set KEY.PATH=VALUE   override a scene value, e.g. --set simulation.pressureSolver.maxError=0.01\n"
+    "  --summary-json FILE    write the run's summary as JSON\n"
+    "  --quiet                no progress, no summary table (warnings and errors still show)\n";
+
+std::string defaultScene() {
+  for (const std::string& candidate : {std::string("data/scenes/DamBreak.json"), std::string(CONSPH_SOURCE_DIR) + "/data/scenes/DamBreak.json"})
+    if (std::filesystem::exists(candidate)) return candidate;
+  return "data/scenes/DamBreak.json";
+}
+
+void printSummary(const json& s) {
+  const auto& p = s["phaseSeconds"];
+  std::printf("\nsummary\n");
+  std::printf("  fluid particles           %zu\n", s["fluidParticles"].get<std::size_t>());
+  std::printf("  boundary particles        %zu\n", s["boundaryParticles"].get<std::size_t>());
+  std::printf("  steps                     %zu\n", s["steps"].get<std::size_t>());
+  std::printf("  simulated time            %.4f s\n", s["simulatedTime"].get<double>());
+  std::printf("  wall time                 %.2f s (%.2f ms/step, %.3f us/particle-step)\n", s["wallSeconds"].get<double>(),
+              s["msPerStep"].get<double>(), s["usPerParticleStep"].get<double>());
+  std::printf("  threads, precision        %d, %s\n", s["threads"].get<int>(), s["precision"].get<std::string>().c_str());
+  std::printf("  solver, boundary pressure %s, %s\n", s["pressureSolver"].get<std::string>().c_str(),
+              s["boundaryPressure"].get<std::string>().c_str());
+  std::printf("  iterations per step       %.2f pressure, %.2f divergence\n", s["averagePressureIterations"].get<double>(),
+              s["averageDivergenceIterations"].get<double>());
+  std::printf("  density error             %.4f %% average, %.4f %% max\n", s["averageDensityErrorPercent"].get<double>(),
+              s["maxDensityErrorPercent"].get<double>());
+  std::printf("  particles lost            %zu\n", s["particlesLost"].get<std::size_t>());
+  std::printf("  seconds per phase         neighbours %.2f, densities %.2f, divergence %.2f, forces %.2f, pressure %.2f, "
+              "integration %.2f, export %.2f\n",
+              p["neighbourSearch"].get<double>(), p["densities"].get<double>(), p["divergenceSolve"].get<double>(),
+              p["nonPressureForces"].get<double>(), p["pressureSolve"].get<double>(), p["integration"].get<double>(),
+              p["export"].get<double>());
+}
+
+struct Options {
+  std::string scene;
+  double stopAt = -1, fps = -1;
+  std::string outputDir, summaryJson;
+  bool noOutput = false, quiet = false, listPlugins = false, listJson = false;
+  int threads = 0;
+  std::vector<std::pair<std::string, std::string>> overrides;
+};
+
+Options parseArgs(int argc, char** argv) {
+  Options o;
+  auto need = [&](int& i, const char* flag) -> std::string {
+    if (i + 1 >= argc) throw InputError(std::string(flag) + ": missing value");
+    return argv[++i];
+  };
+  auto number = [](const std::string& flag, const std::string& v) {
+    try {
+      std::size_t used = 0;
+      const double x = std::stod(v, &used);
+      if (used != v.size()) throw std::invalid_argument(v);
+      return x;
+    } catch (...) {
+      throw InputError(flag + ": expected a number, got '" + v + "'");
+    }
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "run" && i == 1) continue;
+    if (a == "--help" || a == "-h") {
+      std::fputs(kUsage, stdout);
+      std::exit(0);
+    } else if (a == "--version") {
+      std::printf("consph %s (%s)\n", CONSPH_VERSION, precisionName());
+      std::exit(0);
+    } else if (a == "--list-plugins") o.listPlugins = true;
+    else if (a == "--json") o.listJson = true;
+    else if (a == "--stop-at") {
+      o.stopAt = number(a, need(i, "--stop-at"));
+      if (o.stopAt < 0) throw InputError("--stop-at: must be >= 0");
+    } else if (a == "--output-dir") o.outputDir = need(i, "--output-dir");
+    else if (a == "--fps") {
+      o.fps = number(a, need(i, "--fps"));
+      if (o.fps <= 0) throw InputError("--fps: must be > 0");
+    } else if (a == "--threads") {
+      const double t = number(a, need(i, "--threads"));
+      if (t < 1 || t != int(t)) throw InputError("--threads: expected a positive integer");
+      o.threads = int(t);
+    } else if (a == "--set") {
+      const std::string kv = need(i, "--set");
+      const auto eq = kv.find('=');
+      if (eq == std::string::npos || eq == 0) throw InputError("--set: expected KEY.PATH=VALUE, got '" + kv + "'");
+      o.overrides.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+    } else if (a == "--summary-json") o.summaryJson = need(i, "--summary-json");
+    else if (a == "--no-output") o.noOutput = true;
+    else if (a == "--quiet") o.quiet = true;
+    else if (!a.empty() && a[0] == '-') throw InputError("unknown option '" + a + "' (see consph --help)");
+    else if (o.scene.empty()) o.scene = a;
+    else throw InputError("unexpected argument '" + a + "' (one scene at a time)");
+  }
+  return o;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    Options o = parseArgs(argc, argv);
+    if (o.listPlugins) {
+      if (o.listJson) std::printf("%s\n", builtinPlugins().toJson().dump(2).c_str());
+      else std::fputs(builtinPlugins().describe().c_str(), stdout);
+      return 0;
+    }
+    if (o.threads > 0) omp_set_num_threads(o.threads);
+    if (o.scene.empty()) o.scene = defaultScene();
+    LogSink log = stderrLogSink(o.quiet);
+    auto sim = loadSimulation(o.scene, o.overrides, log);
+    if (o.noOutput) sim->setOutputEnabled(false);
+    if (o.fps > 0) sim->setOutputFps(Real(o.fps));
+    if (!o.outputDir.empty() && !o.noOutput) sim->setOutputDirectory(o.outputDir);
+    const double stopAt = o.stopAt >= 0 ? o.stopAt : double(sim->scene().stopAt);
+    if (!o.quiet)
+      std::fprintf(stderr, "consph: %s, %zu fluid + %zu boundary particles, %s, %d threads, %s -> %s\n", o.scene.c_str(),
+                   sim->fluid().size(), sim->boundary().size(), precisionName(), omp_get_max_threads(),
+                   sim->scene().pressureSolver["type"].get<std::string>().c_str(),
+                   sim->scene().output.enabled ? sim->scene().output.directory.c_str() : "(no output)");
+    Progress progress(stopAt, !o.quiet);
+    int status = 0;
+    std::string failure;
+    try {
+      sim->run(Real(stopAt), [&](const Simulation& s) { progress.update(s.time(), s.stepCount()); });
+    } catch (const SimulationError& e) {
+      failure = e.what();
+      status = 3;
+    }
+    progress.finish(sim->time(), sim->stepCount());
+    json summary = sim->summary();
+    summary["scene"] = o.scene;
+    summary["status"] = failure.empty() ? "ok" : "failed";
+    if (!failure.empty()) summary["error"] = failure;
+    if (!o.summaryJson.empty()) writeFileAtomically(o.summaryJson, summary.dump(2) + "\n");
+    if (!o.quiet) printSummary(summary);
+    if (!failure.empty()) std::fprintf(stderr, "consph: error: %s (frames written so far are kept)\n", failure.c_str());
+    return status;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "consph: error: %s\n", e.what());
+    return 2;
+  } catch (const SimulationError& e) {
+    std::fprintf(stderr, "consph: error: %s\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "consph: internal error: %s\n", e.what());
+    return 4;
+  }
+}

@@ -1,0 +1,76 @@
+#include "Utilities/TriangleMesh.h"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <Eigen/Geometry>
+#include <assimp/Importer.hpp>
+#include <filesystem>
+
+#include "Utilities/Error.h"
+
+namespace consph {
+
+Real TriangleMesh::area() const {
+  Real a = 0;
+  for (auto& t : triangles) a += Real(0.5) * (vertices[t[1]] - vertices[t[0]]).cross(vertices[t[2]] - vertices[t[0]]).norm();
+  return a;
+}
+
+void TriangleMesh::boundingBox(Vector3r& lo, Vector3r& hi) const {
+  lo = Vector3r::Constant(std::numeric_limits<Real>::max());
+  hi = -lo;
+  for (auto& v : vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+}
+
+TriangleMesh makeBoxMesh(const Vector3r& lo, const Vector3r& hi, bool inverted) {
+  TriangleMesh m;
+  for (int i = 0; i < 8; ++i) m.vertices.emplace_back(i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]);
+  // Outward-facing quads (counter-clockwise seen from outside).
+  const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (auto& q : quads) {
+    if (!inverted) {
+      m.triangles.push_back({Index(q[0]), Index(q[1]), Index(q[2])});
+      m.triangles.push_back({Index(q[0]), Index(q[2]), Index(q[3])});
+    } else {
+      m.triangles.push_back({Index(q[0]), Index(q[2]), Index(q[1])});
+      m.triangles.push_back({Index(q[0]), Index(q[3]), Index(q[2])});
+    }
+  }
+  return m;
+}
+
+TriangleMesh loadMesh(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError("mesh file '" + path + "' does not exist");
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+  if (!scene || !scene->mRootNode) throw InputError("mesh file '" + path + "' could not be read: " + importer.GetErrorString());
+  TriangleMesh m;
+  for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
+    const aiMesh* mesh = scene->mMeshes[mi];
+    const Index base = Index(m.vertices.size());
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v)
+      m.vertices.emplace_back(mesh->mVertices[v].x, mesh->mVertices[v].y, mesh->mVertices[v].z);
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines carry no surface
+      m.triangles.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+    }
+  }
+  if (m.triangles.empty()) throw InputError("mesh file '" + path + "' contains no triangles");
+  return m;
+}
+
+void transformMesh(TriangleMesh& mesh, const Vector3r& scale, const Vector3r& axis, Real angle, const Vector3r& translation) {
+  Matrix3r R = Matrix3r::Identity();
+  if (axis.norm() > 0) R = Eigen::AngleAxis<Real>(angle, axis.normalized()).toRotationMatrix();
+  for (auto& v : mesh.vertices) v = R * v.cwiseProduct(scale) + translation;
+  // A mirroring scale flips the orientation; keep the normals pointing the same way.
+  if (scale.prod() < 0)
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+}
+
+}  // namespace consph

@@ -1,0 +1,109 @@
+#include "Utilities/VtkWriter.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "Utilities/Error.h"
+
+namespace consph {
+
+void writeFileAtomically(const std::string& path, const std::string& contents) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError("cannot write '" + tmp + "'");
+    out.write(contents.data(), std::streamsize(contents.size()));
+    out.flush();
+    if (!out) throw InputError("write to '" + tmp + "' failed (disk full?)");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw InputError("cannot rename '" + tmp + "' to '" + path + "': " + ec.message());
+}
+
+namespace {
+constexpr const char* realType() { return sizeof(Real) == 8 ? "Float64" : "Float32"; }
+}  // namespace
+
+void VtuPointCloud::add(const std::string& name, const Real* values, int components) {
+  arrays_.push_back({name, realType(), components, values, n_ * components * sizeof(Real)});
+}
+void VtuPointCloud::add(const std::string& name, const Index* values) {
+  arrays_.push_back({name, "UInt32", 1, values, n_ * sizeof(Index)});
+}
+
+std::string VtuPointCloud::serialize() const {
+  std::vector<std::int64_t> connectivity(n_), offsets(n_);
+  std::vector<std::uint8_t> types(n_, 1);  // VTK_VERTEX
+  for (std::size_t i = 0; i < n_; ++i) {
+    connectivity[i] = std::int64_t(i);
+    offsets[i] = std::int64_t(i + 1);
+  }
+  std::ostringstream xml, data;
+  std::uint64_t offset = 0;
+  auto appended = [&](const void* p, std::size_t bytes) {
+    const std::uint64_t header = bytes;
+    data.write(reinterpret_cast<const char*>(&header), sizeof(header));
+    data.write(static_cast<const char*>(p), std::streamsize(bytes));
+    const std::uint64_t at = offset;
+    offset += sizeof(header) + bytes;
+    return at;
+  };
+  xml << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+         "header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
+      << n_ << "\" NumberOfCells=\"" << n_ << "\">\n<PointData>\n";
+  for (auto& a : arrays_)
+    xml << "<DataArray type=\"" << a.type << "\" Name=\"" << a.name << "\" NumberOfComponents=\"" << a.components
+        << "\" format=\"appended\" offset=\"" << appended(a.data, a.bytes) << "\"/>\n";
+  xml << "</PointData>\n<Points>\n<DataArray type=\"" << realType()
+      << "\" NumberOfComponents=\"3\" format=\"appended\" offset=\"" << appended(positions_, n_ * 3 * sizeof(Real))
+      << "\"/>\n</Points>\n<Cells>\n";
+  xml << "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"appended\" offset=\""
+      << appended(connectivity.data(), n_ * 8) << "\"/>\n";
+  xml << "<DataArray type=\"Int64\" Name=\"offsets\" format=\"appended\" offset=\"" << appended(offsets.data(), n_ * 8)
+      << "\"/>\n";
+  xml << "<DataArray type=\"UInt8\" Name=\"types\" format=\"appended\" offset=\"" << appended(types.data(), n_)
+      << "\"/>\n";
+  xml << "</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";
+  std::string out = xml.str();
+  out += data.str();
+  out += "\n</AppendedData>\n</VTKFile>\n";
+  return out;
+}
+
+std::string particlesToVtu(ParticleFields& fields, std::size_t n) {
+  FieldBase* positions = fields.find("position");
+  VtuPointCloud cloud(static_cast<const Vector3r*>(positions->data()), n);
+  for (auto& f : fields.all()) {
+    if (!(f->flags() & FieldExported) || f.get() == positions) continue;
+    if (f->type() == FieldType::Index)
+      cloud.add(f->name(), static_cast<const Index*>(f->data()));
+    else
+      cloud.add(f->name(), static_cast<const Real*>(f->data()), f->components());
+  }
+  return cloud.serialize();
+}
+
+VtkSeries::VtkSeries(std::string directory, std::string name) : directory_(std::move(directory)), name_(std::move(name)) {
+  std::error_code ec;
+  std::filesystem::create_directories(directory_, ec);
+  if (ec) throw InputError("cannot create output folder '" + directory_ + "': " + ec.message());
+}
+
+std::string VtkSeries::write(std::size_t index, double time, const std::string& vtuContents) {
+  char file[256];
+  std::snprintf(file, sizeof(file), "%s_%05zu.vtu", name_.c_str(), index);
+  const std::string path = (std::filesystem::path(directory_) / file).string();
+  writeFileAtomically(path, vtuContents);
+  frames_.emplace_back(time, file);
+  std::ostringstream pvd;
+  pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n<Collection>\n";
+  for (auto& [t, f] : frames_) pvd << "<DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << f << "\"/>\n";
+  pvd << "</Collection>\n</VTKFile>\n";
+  writeFileAtomically((std::filesystem::path(directory_) / (name_ + ".pvd")).string(), pvd.str());
+  return path;
+}
+
+}  // namespace consph

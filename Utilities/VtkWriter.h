@@ -1,0 +1,49 @@
+// Binary VTK XML output (.vtu, appended raw data) that ParaView opens, plus a .pvd collection.
+// Every file is written to a temporary name and renamed, so a crash never leaves half a frame.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "Simulation/ParticleFields.h"
+
+namespace consph {
+
+// Writes `contents` to `path` atomically (temporary file in the same folder, then rename).
+void writeFileAtomically(const std::string& path, const std::string& contents);
+
+// One point cloud: positions and named point arrays.
+class VtuPointCloud {
+ public:
+  VtuPointCloud(const Vector3r* positions, std::size_t n) : positions_(positions), n_(n) {}
+  void add(const std::string& name, const Real* values, int components);
+  void add(const std::string& name, const Index* values);
+  std::string serialize() const;
+
+ private:
+  struct Array {
+    std::string name, type;
+    int components;
+    const void* data;
+    std::size_t bytes;
+  };
+  const Vector3r* positions_;
+  std::size_t n_;
+  std::vector<Array> arrays_;
+};
+
+// Every exported field of a particle set, the first n particles.
+std::string particlesToVtu(ParticleFields& fields, std::size_t n);
+
+// A time series: NAME_00000.vtu, ... and NAME.pvd listing them with their times.
+class VtkSeries {
+ public:
+  VtkSeries(std::string directory, std::string name);
+  // Writes frame `index` at simulated time `time`; returns its path.
+  std::string write(std::size_t index, double time, const std::string& vtuContents);
+
+ private:
+  std::string directory_, name_;
+  std::vector<std::pair<double, std::string>> frames_;
+};
+
+}  // namespace consph
