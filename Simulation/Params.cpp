@@ -44,18 +44,19 @@ std::string typeOf(const json& v) {
 
 void validateParam(const ParamSpec& spec, const json& v, const std::string& path) {
   auto fail = [&](const std::string& why) { throw InputError(path + ": " + why); };
-  auto checkRange = [&](double x) {
+  auto checkRange = [&](const json& number) {
+    const double x = number.get<double>();
     if (!std::isfinite(x) || x < spec.min || x > spec.max)
-      fail("value " + json(x).dump() + " is out of range " + spec.rangeText());
+      fail("value " + number.dump() + " is out of range " + spec.rangeText());
   };
   switch (spec.type) {
     case ParamType::Real:
       if (!v.is_number()) fail(std::string("expected a number, got ") + typeOf(v));
-      checkRange(v.get<double>());
+      checkRange(v);
       break;
     case ParamType::Int:
       if (!v.is_number_integer()) fail(std::string("expected an integer, got ") + typeOf(v));
-      checkRange(double(v.get<long long>()));
+      checkRange(v);
       break;
     case ParamType::Bool:
       if (!v.is_boolean()) fail(std::string("expected true or false, got ") + typeOf(v));
@@ -74,7 +75,7 @@ void validateParam(const ParamSpec& spec, const json& v, const std::string& path
       if (!v.is_array() || v.size() != 3) fail(std::string("expected an array of 3 numbers, got ") + typeOf(v));
       for (auto& c : v) {
         if (!c.is_number()) fail(std::string("expected an array of 3 numbers, got ") + typeOf(v));
-        checkRange(c.get<double>());
+        checkRange(c);
       }
       break;
   }

@@ -159,6 +159,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
              {"maxTimeStep", ParamType::Real, 0.005, "upper bound of the adaptive time step, s", 1e-8, 1},
              {"initialTimeStep", ParamType::Real, 0.001, "time step of the first step, s", 1e-8, 1},
              {"stopAt", ParamType::Real, 1.0, "simulated end time, s", 0, 1e9},
+             {"particleSpacing", ParamType::Real, 1.8566, "lattice spacing of fluid blocks in particle radii r (particle volume = spacing^3); the default gives SPlisHSPlasH's volume 0.8 (2r)^3", 1.2, 3},
              {"sortInterval", ParamType::Int, 50, "re-sort particles in Z-order every this many steps (0: never)", 0, 1e9},
              {"iterationCapSteps", ParamType::Int, 100, "stop when the pressure solver hits its iteration cap this many steps in a row", 1, 1e9},
              {"boundaryPressure", ParamType::String, "consistent", "boundary neighbours in the pressure solve",
@@ -173,6 +174,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   s.initialTimeStep = sp.real("initialTimeStep");
   if (s.minTimeStep > s.maxTimeStep) throw InputError("simulation.minTimeStep: must not exceed simulation.maxTimeStep");
   s.stopAt = sp.real("stopAt");
+  s.particleSpacing = sp.real("particleSpacing");
   s.sortInterval = sp.integer("sortInterval");
   s.iterationCapSteps = sp.integer("iterationCapSteps");
   const std::string bp = sp.string("boundaryPressure");
@@ -186,9 +188,11 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   if (s.boundaryModel.is_null()) s.boundaryModel = {{"type", "Akinci2012"}};
   if (s.boundaryModel.is_string()) s.boundaryModel = {{"type", s.boundaryModel}};
   for (auto* plugin : {&s.pressureSolver, &s.boundaryModel}) {
-    const std::string path = plugin == &s.pressureSolver ? "simulation.pressureSolver" : "simulation.boundaryModel";
+    const bool solver = plugin == &s.pressureSolver;
+    const std::string path = solver ? "simulation.pressureSolver" : "simulation.boundaryModel";
     expectObject(*plugin, path);
-    if (!plugin->contains("type") || !(*plugin)["type"].is_string()) throw InputError(path + ".type: required string is missing");
+    if (!plugin->contains("type")) (*plugin)["type"] = solver ? "DFSPH" : "Akinci2012";  // the documented defaults
+    if (!(*plugin)["type"].is_string()) throw InputError(path + ".type: expected a string naming the plugin");
   }
   if (const json& d = child(sim, "domain"); !d.is_null()) {
     Params dp(d, "simulation.domain",

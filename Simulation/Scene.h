@@ -37,6 +37,7 @@ struct SceneDescription {
   Vector3r gravity = Vector3r(0, Real(-9.81), 0);
   Real cflFactor = 1, minTimeStep = Real(1e-4), maxTimeStep = Real(0.005), initialTimeStep = Real(0.001);
   Real stopAt = 1;
+  Real particleSpacing = Real(1.8566);  // lattice spacing of fluid blocks, in particle radii (0.8^(1/3) 2)
   int sortInterval = 50;
   int iterationCapSteps = 100;  // stop when the solver hit its cap this many steps in a row
   BoundaryPressure boundaryPressure = BoundaryPressure::Consistent;

@@ -185,9 +185,13 @@ void DFSPH::solve(StepContext& ctx) {
   stats_.pressureIterations = it;
   stats_.densityError = error;
   stats_.hitIterationCap = error > settings_.maxError && it >= settings_.maxIterations;
-  // p_i = beta_i rho_i^2.
+  // The pressure of the step is what both solves applied: p_i = beta_i rho_i^2 with the
+  // divergence solve's beta (applied over dtPrevious) converted to this step's dt. In a resting
+  // column the divergence solve carries a share of the weight, so leaving it out reads low.
+  const Real divergenceScale = settings_.divergenceSolver ? ctx.dtPrevious / ctx.dt : Real(0);
 #pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) f.pressures[i] = densityBeta_[i] * f.densities[i] * f.densities[i];
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i)
+    f.pressures[i] = (densityBeta_[i] + divergenceScale * divergenceBeta_[i]) * f.densities[i] * f.densities[i];
 }
 
 }  // namespace consph

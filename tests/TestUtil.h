@@ -1,0 +1,43 @@
+// Helpers shared by the tests: simulations from JSON text with output off and log captured.
+#pragma once
+#include <algorithm>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "Simulation/Simulation.h"
+
+namespace consph::test {
+
+struct CapturedLog {
+  std::vector<std::string> warnings;
+  LogSink sink() {
+    return [this](LogLevel level, const std::string& text) {
+      if (level == LogLevel::Warning) warnings.push_back(text);
+    };
+  }
+};
+
+inline std::unique_ptr<Simulation> simulationFromJson(json scene, const LogSink& log = {}) {
+  scene["output"] = {{"enabled", false}};
+  return std::make_unique<Simulation>(parseScene(scene, CONSPH_TEST_DATA_DIR "/scenes", log), builtinPlugins(),
+                                      log ? log : LogSink([](LogLevel, const std::string&) {}));
+}
+
+inline std::string dataPath(const std::string& relative) { return std::string(CONSPH_TEST_DATA_DIR) + "/" + relative; }
+
+// The free surface height: the mean height of the `layerCount` highest particles (the top
+// layer) plus half a particle spacing. A mean over the layer is robust to one particle riding
+// on top of the others.
+inline Real surfaceHeight(const FluidModel& f, std::size_t layerCount, Real halfSpacing) {
+  std::vector<Real> heights(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) heights[i] = f.positions[i][1];
+  layerCount = std::min(layerCount, heights.size());
+  std::partial_sort(heights.begin(), heights.begin() + layerCount, heights.end(), std::greater<Real>());
+  Real sum = 0;
+  for (std::size_t i = 0; i < layerCount; ++i) sum += heights[i];
+  return sum / Real(layerCount) + halfSpacing;
+}
+
+}  // namespace consph::test

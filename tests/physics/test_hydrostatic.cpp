@@ -1,0 +1,85 @@
+// A 1 m column of water at rest (data/scenes/Hydrostatic.json, DFSPH, 2 s): density error within
+// the solver tolerance, p = rho0 g (depth) away from the surface and the walls, nearly at rest,
+// no particle lost.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "TestUtil.h"
+
+using namespace consph;
+
+TEST(Hydrostatic, ColumnAtRestDFSPH) {
+  json scene = readJsonFile(test::dataPath("scenes/Hydrostatic.json"));
+  auto sim = test::simulationFromJson(scene);
+  const Real r = sim->scene().particleRadius, rho0 = sim->fluid().density0(), g = Real(9.81);
+  const Real tolerance = Real(scene["simulation"]["pressureSolver"]["maxError"].get<double>() / 100);
+  const Real boxWidth = Real(scene["boundaries"][0]["box"]["max"][0].get<double>());
+  const std::size_t n0 = sim->fluid().size();
+  const FluidModel& f = sim->fluid();
+  const Real halfSpacing = Real(0.5) * sim->scene().particleSpacing * r;
+  std::size_t topLayer = 0;  // particles in the initial top layer
+  Real initialTop = -1e30;
+  for (auto& x : f.positions) initialTop = std::max(initialTop, x[1]);
+  for (auto& x : f.positions) topLayer += x[1] > initialTop - halfSpacing;
+
+  // Settle for 1.5 s, then measure over the last half second.
+  sim->run(Real(1.5));
+  const double errorSumBefore = sim->stats().densityErrorSum;
+  const std::size_t samplesBefore = sim->stats().densityErrorSamples;
+  Real worstConverged = 0;
+  // Pressure against rho0 g (depth), time-averaged in 10 cm depth bins, for particles at least
+  // 4r from the side walls, from 20 to 60 cm below the surface.
+  constexpr int bins = 4;
+  double pSum[bins] = {}, depthSum[bins] = {};
+  int count[bins] = {};
+  while (sim->time() < 2 - Real(1e-6)) {
+    sim->step();
+    const auto& s = sim->pressureSolver().stats();
+    ASSERT_FALSE(s.hitIterationCap);
+    worstConverged = std::max(worstConverged, s.densityError);
+    if (sim->stepCount() % 5) continue;
+    const Real surface = test::surfaceHeight(f, topLayer, halfSpacing);
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      const Vector3r& x = f.positions[i];
+      const int bin = int(std::floor((surface - x[1] - Real(0.2)) / Real(0.1)));
+      if (bin < 0 || bin >= bins) continue;
+      if (std::min(x[0], x[2]) < 4 * r || std::max(x[0], x[2]) > boxWidth - 4 * r) continue;
+      pSum[bin] += f.pressures[i];
+      depthSum[bin] += surface - x[1];
+      ++count[bin];
+    }
+  }
+  for (int b = 0; b < bins; ++b) {
+    ASSERT_GT(count[b], 50);
+    const double expected = rho0 * g * depthSum[b] / count[b];
+    EXPECT_NEAR(pSum[b] / count[b], expected, 0.02 * expected) << "depth bin " << 0.2 + 0.1 * b << " m";
+  }
+
+  // The solver's (predicted) average density error is within its tolerance every step ...
+  EXPECT_LE(worstConverged, tolerance);
+  // ... and the true one, measured on the positions after each step, stays within 10 % of it
+  // (the solver predicts the density to first order in dt).
+  const double trueAverage =
+      (sim->stats().densityErrorSum - errorSumBefore) / double(sim->stats().densityErrorSamples - samplesBefore);
+  EXPECT_LT(trueAverage, 1.1 * tolerance) << "true average density error " << 100 * trueAverage << " %";
+
+  ASSERT_EQ(f.size(), n0);
+  EXPECT_EQ(sim->stats().particlesLost, 0u);
+
+  // Nearly at rest: mean speed below 1 cm/s, and below 2 cm/s everywhere at least 4r from the
+  // walls. (The layer pressed onto the floor by 1 m of water jitters faster, up to ~0.1 m/s
+  // measured: the discrete boundary is not perfectly flat.)
+  double maxInteriorSpeed = 0, meanSpeed = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const Vector3r& x = f.positions[i];
+    const bool interior = std::min({x[0], x[1], x[2]}) > 4 * r && std::max(x[0], x[2]) < boxWidth - 4 * r;
+    if (interior) maxInteriorSpeed = std::max(maxInteriorSpeed, double(f.velocities[i].norm()));
+    meanSpeed += f.velocities[i].norm();
+  }
+  meanSpeed /= double(f.size());
+  EXPECT_LT(meanSpeed, 0.01);
+  EXPECT_LT(maxInteriorSpeed, 0.02);
+  std::printf("hydrostatic: mean speed %.4f m/s, max interior speed %.4f m/s, true density error %.5f %%\n", meanSpeed,
+              maxInteriorSpeed, 100 * trueAverage);
+}

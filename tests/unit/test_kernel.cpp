@@ -1,0 +1,73 @@
+// Cubic spline kernel: normalisation, symmetry and gradient properties.
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "Simulation/Kernel.h"
+
+using namespace consph;
+
+namespace {
+// Integrates f over the support with a midpoint rule on a fine grid.
+template <class F>
+double integrateOverSupport(Real h, int n, F f) {
+  const double d = 2.0 * h / n;
+  double sum = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const Vector3r x(Real(-h + (i + 0.5) * d), Real(-h + (j + 0.5) * d), Real(-h + (k + 0.5) * d));
+        sum += f(x);
+      }
+  return sum * d * d * d;
+}
+}  // namespace
+
+TEST(CubicSplineKernel, IntegratesToOne) {
+  const CubicSplineKernel kernel(Real(0.1));
+  const double integral = integrateOverSupport(Real(0.1), 80, [&](const Vector3r& x) { return double(kernel.W(x)); });
+  EXPECT_NEAR(integral, 1.0, 2e-3);
+}
+
+TEST(CubicSplineKernel, CompactSupportAndPositive) {
+  const CubicSplineKernel kernel(Real(0.2));
+  EXPECT_EQ(kernel.W(Real(0.2)), 0);
+  EXPECT_EQ(kernel.W(Real(0.25)), 0);
+  EXPECT_EQ(kernel.gradW(Vector3r(Real(0.21), 0, 0)).norm(), 0);
+  for (Real r = 0; r < Real(0.2); r += Real(0.01)) EXPECT_GT(kernel.W(r), 0);
+  EXPECT_NEAR(kernel.W0(), 8 / (std::numbers::pi * 0.008), 1e-9 * kernel.W0());
+}
+
+TEST(CubicSplineKernel, GradientIsAntisymmetricAndPointsInwards) {
+  const CubicSplineKernel kernel(Real(0.1));
+  for (const Vector3r& x : {Vector3r(Real(0.01), Real(0.02), Real(-0.03)), Vector3r(Real(0.06), 0, Real(0.04))}) {
+    const Vector3r g = kernel.gradW(x);
+    EXPECT_LT((g + kernel.gradW(-x)).norm(), 1e-12 * (1 + g.norm()));
+    EXPECT_LT(g.dot(x), 0);  // W decreases outwards
+    EXPECT_NEAR(g.normalized().dot(x.normalized()), -1, 1e-6);
+  }
+  EXPECT_EQ(kernel.gradW(Vector3r::Zero()).norm(), 0);
+}
+
+TEST(CubicSplineKernel, GradientMatchesFiniteDifferences) {
+  const CubicSplineKernel kernel(Real(0.1));
+  const Real eps = sizeof(Real) == 8 ? Real(1e-7) : Real(1e-4);
+  for (const Vector3r& x : {Vector3r(Real(0.01), Real(0.015), Real(0.005)), Vector3r(Real(0.03), Real(-0.05), Real(0.02))}) {
+    const Vector3r g = kernel.gradW(x);
+    for (int d = 0; d < 3; ++d) {
+      Vector3r e = Vector3r::Zero();
+      e[d] = eps;
+      const Real fd = (kernel.W(x + e) - kernel.W(x - e)) / (2 * eps);
+      EXPECT_NEAR(g[d], fd, 1e-3 * kernel.W0() / Real(0.1));
+    }
+  }
+}
+
+TEST(CubicSplineKernel, GradientIntegratesToZeroAndHasUnitFirstMoment) {
+  // int grad W dV = 0 and int x (x) grad W dV = -I (consistency of SPH derivatives).
+  const CubicSplineKernel kernel(Real(0.1));
+  const double gx = integrateOverSupport(Real(0.1), 60, [&](const Vector3r& x) { return double(kernel.gradW(x)[0]); });
+  const double moment = integrateOverSupport(Real(0.1), 60, [&](const Vector3r& x) { return double(x[0] * kernel.gradW(x)[0]); });
+  EXPECT_NEAR(gx, 0, 1e-9);
+  EXPECT_NEAR(moment, -1, 5e-3);
+}

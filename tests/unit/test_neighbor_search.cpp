@@ -1,0 +1,119 @@
+// Neighbour search: equals brute force, before and after Z-order re-sorting.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+
+#include "Simulation/NeighborSearch.h"
+
+using namespace consph;
+
+namespace {
+std::vector<Vector3r> randomPoints(std::size_t n, unsigned seed, Real extent) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-extent, extent);
+  std::vector<Vector3r> p(n);
+  for (auto& x : p) x = Vector3r(Real(u(rng)), Real(u(rng)), Real(u(rng)));
+  return p;
+}
+
+void expectBruteForce(const std::vector<Vector3r>& targets, const std::vector<Vector3r>& queries, const NeighborLists& lists,
+                      const CubicSplineKernel& kernel, bool excludeSelf) {
+  const Real h2 = kernel.supportRadius() * kernel.supportRadius();
+  ASSERT_EQ(lists.queryCount(), queries.size());
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    std::vector<Index> expected;
+    for (std::size_t j = 0; j < targets.size(); ++j)
+      if ((queries[i] - targets[j]).squaredNorm() <= h2 && !(excludeSelf && i == j)) expected.push_back(Index(j));
+    std::vector<Index> got(lists.indices.begin() + lists.begin(i), lists.indices.begin() + lists.end(i));
+    ASSERT_EQ(got, expected) << "query " << i;  // sorted ascending, no duplicates
+    for (Index e = lists.begin(i); e < lists.end(i); ++e)
+      EXPECT_LT((lists.gradW[e] - kernel.gradW(queries[i] - targets[lists.indices[e]])).norm(), 1e-12);
+  }
+}
+}  // namespace
+
+TEST(NeighborSearch, SelfSearchEqualsBruteForce) {
+  const CubicSplineKernel kernel(Real(0.1));
+  const auto points = randomPoints(3000, 1, Real(0.5));
+  PointGrid grid;
+  grid.build(points.data(), points.size(), kernel.supportRadius());
+  NeighborLists lists;
+  buildNeighborLists(grid, points.data(), points.data(), points.size(), kernel, true, lists);
+  expectBruteForce(points, points, lists, kernel, true);
+}
+
+TEST(NeighborSearch, CrossSetSearchEqualsBruteForce) {
+  const CubicSplineKernel kernel(Real(0.08));
+  const auto targets = randomPoints(2000, 2, Real(0.4));
+  const auto queries = randomPoints(1500, 3, Real(0.5));
+  PointGrid grid;
+  grid.build(targets.data(), targets.size(), kernel.supportRadius());
+  NeighborLists lists;
+  buildNeighborLists(grid, targets.data(), queries.data(), queries.size(), kernel, false, lists);
+  expectBruteForce(targets, queries, lists, kernel, false);
+}
+
+TEST(NeighborSearch, NegativeAndFarCoordinatesDoNotAlias) {
+  // Points far apart whose cells hash to the same bucket must not be reported as neighbours.
+  const CubicSplineKernel kernel(Real(0.1));
+  auto points = randomPoints(500, 4, Real(0.3));
+  for (auto p : randomPoints(500, 5, Real(0.3))) points.push_back(p + Vector3r(Real(1000), Real(-2000), Real(512)));
+  PointGrid grid;
+  grid.build(points.data(), points.size(), kernel.supportRadius());
+  NeighborLists lists;
+  buildNeighborLists(grid, points.data(), points.data(), points.size(), kernel, true, lists);
+  expectBruteForce(points, points, lists, kernel, true);
+}
+
+TEST(NeighborSearch, ZOrderIsAPermutationAndSearchStillExact) {
+  const CubicSplineKernel kernel(Real(0.1));
+  auto points = randomPoints(2500, 6, Real(0.5));
+  const auto order = zOrderPermutation(points.data(), points.size(), kernel.supportRadius());
+  std::set<Index> unique(order.begin(), order.end());
+  ASSERT_EQ(unique.size(), points.size());
+  std::vector<Vector3r> sorted(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) sorted[i] = points[order[i]];
+  // Sorting improves locality: consecutive points are closer on average.
+  auto meanGap = [](const std::vector<Vector3r>& p) {
+    double s = 0;
+    for (std::size_t i = 1; i < p.size(); ++i) s += (p[i] - p[i - 1]).norm();
+    return s / double(p.size() - 1);
+  };
+  EXPECT_LT(meanGap(sorted), 0.5 * meanGap(points));
+  PointGrid grid;
+  grid.build(sorted.data(), sorted.size(), kernel.supportRadius());
+  NeighborLists lists;
+  buildNeighborLists(grid, sorted.data(), sorted.data(), sorted.size(), kernel, true, lists);
+  expectBruteForce(sorted, sorted, lists, kernel, true);
+}
+
+TEST(NeighborSearch, TransposeReversesEveryPair) {
+  const CubicSplineKernel kernel(Real(0.1));
+  const auto targets = randomPoints(800, 7, Real(0.3));
+  const auto queries = randomPoints(900, 8, Real(0.3));
+  PointGrid grid;
+  grid.build(targets.data(), targets.size(), kernel.supportRadius());
+  NeighborLists lists, reversed;
+  buildNeighborLists(grid, targets.data(), queries.data(), queries.size(), kernel, false, lists);
+  transposeNeighborLists(lists, targets.size(), reversed);
+  ASSERT_EQ(reversed.pairCount(), lists.pairCount());
+  for (std::size_t k = 0; k < targets.size(); ++k)
+    for (Index e = reversed.begin(k); e < reversed.end(k); ++e) {
+      const Index i = reversed.indices[e];
+      EXPECT_LE((targets[k] - queries[i]).norm(), kernel.supportRadius());
+      EXPECT_LT((reversed.gradW[e] - kernel.gradW(targets[k] - queries[i])).norm(), 1e-12);
+    }
+}
+
+TEST(NeighborSearch, EmptySets) {
+  const CubicSplineKernel kernel(Real(0.1));
+  PointGrid grid;
+  grid.build(nullptr, 0, kernel.supportRadius());
+  const auto queries = randomPoints(10, 9, Real(0.1));
+  NeighborLists lists;
+  buildNeighborLists(grid, nullptr, queries.data(), queries.size(), kernel, false, lists);
+  EXPECT_EQ(lists.pairCount(), 0u);
+  EXPECT_EQ(lists.queryCount(), 10u);
+}
