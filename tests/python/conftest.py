@@ -16,6 +16,11 @@ import consph  # noqa: E402  (PYTHONPATH=build/python)
 
 consph.set_num_threads(int(os.environ["OMP_NUM_THREADS"]))
 
+# The CLI of the same build (the module lives in BUILD/python/consph): messages and summaries
+# are compared with it.
+CLI = os.environ.get("CONSPH_BINARY") or os.path.join(
+    os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(consph.__file__)))), "consph")
+
 R = 0.025  # particle radius of the tiny scenes, m
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import consph
-from conftest import REPO, free_particles_scene, tank_scene
+from conftest import CLI, free_particles_scene, tank_scene
 
 
 def test_bad_scenes_raise_scene_error(tmp_path):
@@ -34,7 +34,7 @@ def test_messages_equal_the_cli(tmp_path):
     scene = tank_scene(pressureSolver={"type": "NoSuchSolver"})
     path = tmp_path / "unknown.json"
     path.write_text(json.dumps(scene))
-    cli = subprocess.run([os.path.join(REPO, "build", "consph"), str(path), "--no-output", "--quiet"],
+    cli = subprocess.run([CLI, str(path), "--no-output", "--quiet"],
                          capture_output=True, text=True)
     assert cli.returncode == 2
     with pytest.raises(consph.SceneError) as error:

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import consph
-from conftest import REPO, tank_scene
+from conftest import CLI, REPO, tank_scene
 
 from vtu import read_vtu
 
@@ -42,7 +42,7 @@ def test_summary_has_the_cli_figures(tank, tmp_path):
     scene_file = tmp_path / "tiny.json"
     scene_file.write_text(json.dumps(tank_scene()))
     out = tmp_path / "summary.json"
-    subprocess.run([os.path.join(REPO, "build", "consph"), str(scene_file), "--stop-at", "0.01", "--no-output",
+    subprocess.run([CLI, str(scene_file), "--stop-at", "0.01", "--no-output",
                     "--quiet", "--threads", "1", "--summary-json", str(out)], check=True)
     cli = json.loads(out.read_text())
     assert set(cli) - {"status"} == set(summary)
