@@ -1,6 +1,7 @@
 """A non-pressure force written in Python: wind blowing over a pool.
 
-SurfaceWind drags the free-surface particles (those with fewer neighbours than the bulk) towards
+SurfaceWind drags the free-surface particles (those with fewer fluid + boundary neighbours than
+the bulk, about 33 at rest) towards
 the wind velocity, a_i = k (u_wind - v_i). It is registered under a name, so the scene names it
 like a built-in plugin ({"type": "SurfaceWind", ...}), and uses the step's neighbour lists.
 The wind piles the water up at the downwind wall (wind set-up): the script prints the surface
@@ -16,9 +17,9 @@ import consph
 
 
 @consph.register_force("SurfaceWind", parameters=[
-    consph.Param("wind", "vector3", [3.0, 0.0, 0.0], "wind velocity u_wind, m/s"),
-    consph.Param("drag", float, 20.0, "drag rate k, 1/s", min=0),
-    consph.Param("surfaceNeighbors", int, 22, "a particle with fewer neighbours is at the surface", min=1),
+    consph.Param("wind", "vector3", [1.0, 0.0, 0.0], "wind velocity u_wind, m/s"),
+    consph.Param("drag", float, 5.0, "drag rate k, 1/s", min=0),
+    consph.Param("surfaceNeighbors", int, 24, "a particle with fewer neighbours is at the surface", min=1),
 ])
 class SurfaceWind(consph.Force):
     """Wind drag on free-surface particles: a_i = k (u_wind - v_i)."""
@@ -29,8 +30,9 @@ class SurfaceWind(consph.Force):
         self.surface_neighbors = surfaceNeighbors
 
     def add_acceleration(self, ctx, fluid):
-        offsets, _ = ctx.fluid_neighbors()  # CSR lists of this step (a copy)
-        surface = np.diff(offsets) < self.surface_neighbors
+        fluid_offsets, _ = ctx.fluid_neighbors()  # CSR lists of this step (copies)
+        boundary_offsets, _ = ctx.boundary_neighbors()
+        surface = np.diff(fluid_offsets) + np.diff(boundary_offsets) < self.surface_neighbors
         v = fluid.velocities  # zero-copy views of this step's particles
         fluid.accelerations[surface] += self.drag * (self.wind - v[surface])
 
@@ -38,7 +40,7 @@ class SurfaceWind(consph.Force):
 def pool(wind):
     forces = [{"type": "StandardViscosity", "viscosity": 0.01}]
     if wind:
-        forces.append({"type": "SurfaceWind", "wind": [3.0, 0.0, 0.0]})
+        forces.append({"type": "SurfaceWind", "wind": [1.0, 0.0, 0.0], "drag": 5.0})
     return {
         "name": "WindOverPool" if wind else "Pool",
         "simulation": {"particleRadius": 0.02, "maxTimeStep": 0.005, "stopAt": 1.5,
@@ -51,11 +53,11 @@ def pool(wind):
 
 
 def surface_heights(sim):
-    """Highest particle (plus r) in the first and last 0.2 m of the pool."""
+    """Highest particle (plus r) in the first and last 0.2 m of the pool (0 where it is dry)."""
     x = sim.fluid().positions
     r = sim.particle_radius
-    left, right = x[x[:, 0] < 0.2], x[x[:, 0] > 1.4]
-    return left[:, 1].max() + r, right[:, 1].max() + r
+    left, right = x[x[:, 0] < 0.2, 1], x[x[:, 0] > 1.4, 1]
+    return (left.max() + r if len(left) else 0.0), (right.max() + r if len(right) else 0.0)
 
 
 def main():

@@ -96,7 +96,7 @@ def main():
     ax.plot(measured[:, 0], measured[:, 1], "o", mfc="none", label="Martin & Moyce 1952, n$^2$ = 2")
     ax.set_xlabel(r"$T = t\,\sqrt{2g/a}$")
     ax.set_ylabel(r"$Z = x_{front}/a$")
-    ax.set_title(f"Dam break, column {height / a:.0f}a high, a = {a} m: RMS(Z) = {rms:.3f}")
+    ax.set_title(f"Dam break, column {height / a:.0f}a high, a = {a:g} m: RMS(Z) = {rms:.3f}", fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(loc="upper left")
     fig.tight_layout()
