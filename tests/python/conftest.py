@@ -21,6 +21,10 @@ consph.set_num_threads(int(os.environ["OMP_NUM_THREADS"]))
 CLI = os.environ.get("CONSPH_BINARY") or os.path.join(
     os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(consph.__file__)))), "consph")
 
+# Round-off of the build's Real (consph.precision): absolute for positions of order 1 m, relative.
+ATOL = 1e-12 if consph.precision == "double" else 1e-5
+RTOL = 1e-9 if consph.precision == "double" else 1e-5
+
 R = 0.025  # particle radius of the tiny scenes, m
 
 

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import consph
-from conftest import free_particles_scene
+from conftest import ATOL, RTOL, free_particles_scene
 
 
 class ConstantAcceleration(consph.Force):
@@ -38,9 +38,9 @@ def test_python_force_moves_free_particles_by_a_t2_over_2(free):
     n, dt = 200, 1e-3
     free.step(n)
     t = free.time
-    assert force.calls == n and t == pytest.approx(n * dt, rel=1e-12)
+    assert force.calls == n and t == pytest.approx(n * dt, rel=RTOL)
     d = displacement_by_id(free, x0)
-    np.testing.assert_allclose(d, np.tile(expected_displacement(a, n, dt), (len(water), 1)), rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(d, np.tile(expected_displacement(a, n, dt), (len(water), 1)), rtol=RTOL, atol=ATOL)
     # ... which is a t^2 / 2 up to the scheme's a t dt / 2.
     np.testing.assert_allclose(d[0], np.multiply(a, t * t / 2), atol=np.abs(a).max() * t * dt / 2 * 1.0001)
 
@@ -59,7 +59,7 @@ def test_a_callable_is_a_force_and_sees_the_step(free):
     assert seen["step"] == 2 and seen["dt"] == pytest.approx(1e-3) and seen["n"] == 64
     assert len(seen["offsets"]) == 65 and len(seen["indices"]) == 0  # free particles: no neighbours
     h = 4 * seen["radius"]
-    np.testing.assert_allclose(seen["w0"], 8 / (np.pi * h ** 3))  # cubic spline W(0) = 8 / (pi h^3)
+    np.testing.assert_allclose(seen["w0"], 8 / (np.pi * h ** 3), rtol=RTOL)  # cubic spline W(0) = 8 / (pi h^3)
     with pytest.raises(RuntimeError, match="finished step"):
         seen["ctx"].dt  # the context expired with its step
 
@@ -91,7 +91,7 @@ def test_registered_force_usable_from_a_scene():
     sim = consph.Simulation.from_dict(scene, plugins=registry)
     x0 = sim.fluid().positions[np.argsort(sim.fluid().ids)]
     sim.step(50)
-    np.testing.assert_allclose(displacement_by_id(sim, x0)[5], expected_displacement((0, 3, 0), 50, 1e-3), atol=1e-12)
+    np.testing.assert_allclose(displacement_by_id(sim, x0)[5], expected_displacement((0, 3, 0), 50, 1e-3), atol=ATOL)
 
     scene["fluids"][0]["forces"] = [{"type": "Push", "a": 3}]
     with pytest.raises(consph.SceneError, match=r"fluids\[0\]\.forces\[0\]\.a"):

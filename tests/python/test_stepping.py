@@ -85,9 +85,9 @@ def test_the_gil_is_released_during_step():
         in_step.wait()
         while not stop.is_set():
             counter[0] += 1
-            if counter[0] == 1000:
+            if counter[0] % 1000 == 0:
                 try:
-                    sim.fluid().positions  # another thread must not read arrays being written
+                    sim.fluid().positions  # refused while the other thread steps (arrays being written)
                 except RuntimeError as e:
                     errors.append(str(e))
 

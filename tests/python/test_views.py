@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import consph
-from conftest import tank_scene
+from conftest import ATOL, tank_scene
 
 
 def test_arrays_are_views_of_the_cpp_fields(tank):
@@ -32,7 +32,7 @@ def test_writing_through_a_view_changes_the_motion(free):
     t = free.time
     assert t == pytest.approx(20 * 1e-3)
     x = water.positions[np.argsort(water.ids)]
-    np.testing.assert_allclose(x - x0, np.tile([0.5 * t, 0.0, -0.25 * t], (len(water), 1)), atol=1e-12)
+    np.testing.assert_allclose(x - x0, np.tile([0.5 * t, 0.0, -0.25 * t], (len(water), 1)), atol=ATOL)
 
 
 def test_ids_are_read_only_and_follow_resorting():
