@@ -30,6 +30,12 @@ from ._consph import (  # noqa: F401
 )
 from .plugins import Force, Param, PluginRegistry, default_plugins, plugins, register_force  # noqa: F401
 
+# Tracebacks and reprs say consph.SimulationError, not consph._consph.SimulationError.
+for _cls in (Simulation, Fluid, StepContext, FieldViewOwner, SceneError, SimulationError, StaleViewError,
+             ConsphWarning, StaleViewWarning):
+    _cls.__module__ = __name__
+del _cls
+
 
 def is_current(array):
     """True if `array` (a particle view or a slice of one) still matches the particle storage and
