@@ -156,8 +156,7 @@ void Simulation::step() {
 }
 
 void Simulation::run(Real until, const std::function<void(const Simulation&)>& progress) {
-  // Stop half a minimum step early: no sliver of a step at the end.
-  while (time_ < until - Real(0.5) * scene_.minTimeStep) {
+  while (!reached(until)) {
     step();
     if (progress) progress(*this);
   }

@@ -41,6 +41,8 @@ class Simulation {
   void step();
   // Steps until `until` (simulated seconds); `progress` is called after every step.
   void run(Real until, const std::function<void(const Simulation&)>& progress = {});
+  // Whether run(until) would stop now: half a minimum step early, so no sliver of a step is left.
+  bool reached(Real until) const { return time_ >= until - Real(0.5) * scene_.minTimeStep; }
 
   Real time() const { return time_; }
   Real dt() const { return dt_; }

@@ -1,0 +1,67 @@
+"""Errors become Python exceptions with the CLI's messages; warnings reach Python."""
+import json
+import os
+import subprocess
+import warnings
+
+import numpy as np
+import pytest
+
+import consph
+from conftest import CLI, free_particles_scene, tank_scene
+
+
+def test_bad_scenes_raise_scene_error(tmp_path):
+    with pytest.raises(consph.SceneError, match="cannot open scene file"):
+        consph.Simulation.from_file(tmp_path / "missing.json")
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"fluids": [\n  {"name": }\n]}')
+    with pytest.raises(consph.SceneError, match=r"bad\.json:2:\d+: malformed JSON"):
+        consph.Simulation.from_file(bad)
+    scene = tank_scene()
+    scene["simulation"]["particleRadius"] = "big"
+    with pytest.raises(ValueError, match="simulation.particleRadius"):  # SceneError is a ValueError
+        consph.Simulation.from_dict(scene)
+    with pytest.raises(consph.SceneError, match="fluids: expected a non-empty array"):
+        consph.Simulation.from_dict({"fluids": []})
+    with pytest.raises(consph.SceneError, match="index 5 is past the end"):
+        consph.Simulation.from_dict(tank_scene(), overrides={"fluids.5.density0": 1})
+    with pytest.raises(consph.SceneError, match="not a finite number"):
+        consph.Simulation.from_dict(tank_scene(), overrides={"simulation.gravity": [0, float("nan"), 0]})
+
+
+def test_messages_equal_the_cli(tmp_path):
+    scene = tank_scene(pressureSolver={"type": "NoSuchSolver"})
+    path = tmp_path / "unknown.json"
+    path.write_text(json.dumps(scene))
+    cli = subprocess.run([CLI, str(path), "--no-output", "--quiet"],
+                         capture_output=True, text=True)
+    assert cli.returncode == 2
+    with pytest.raises(consph.SceneError) as error:
+        consph.Simulation.from_file(path)
+    assert cli.stderr.strip() == "consph: error: " + str(error.value)
+    assert "unknown pressure solver 'NoSuchSolver'; valid are: " in str(error.value)
+
+
+def test_blow_ups_raise_simulation_error(free, tank):
+    free.fluid().add_force(lambda ctx, fluid: fluid.accelerations.__setitem__((3, 1), np.nan))
+    with pytest.raises(consph.SimulationError, match="non-finite position, velocity or pressure"):
+        free.step(5)
+    tank.fluid().velocities[7] = (1e4, 0, 0)
+    with pytest.raises(RuntimeError, match=r"left the domain .* leaked through a boundary or the simulation blew up"):
+        tank.step()
+
+
+def test_warnings_reach_python():
+    scene = tank_scene()
+    scene["simulation"]["particleRadiuss"] = 0.1
+    with pytest.warns(consph.ConsphWarning, match="particleRadiuss"):
+        consph.Simulation.from_dict(scene)
+    messages = []
+    consph.Simulation.from_dict(scene, log=lambda level, text: messages.append((level, text)))
+    assert any(level == "warning" and "particleRadiuss" in text for level, text in messages)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(consph.ConsphWarning):  # warnings-as-errors works as in any Python library
+            consph.Simulation.from_dict(scene)
+    consph.Simulation.from_dict(free_particles_scene())  # no warnings for a clean scene
