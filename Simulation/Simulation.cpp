@@ -41,11 +41,14 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
     hasDomain_ = true;
     domainMin_ = scene_.domainMin;
     domainMax_ = scene_.domainMax;
-  } else if (!scene_.boundaries.empty()) {
+  } else if (std::any_of(scene_.boundaries.begin(), scene_.boundaries.end(),
+                         [](const BoundaryObject& b) { return b.motion == BodyMotion::Static; })) {
+    // Moving bodies do not count: they go where the fluid takes them.
     hasDomain_ = true;
     domainMin_ = Vector3r::Constant(std::numeric_limits<Real>::max());
     domainMax_ = -domainMin_;
     for (auto& b : scene_.boundaries) {
+      if (b.motion != BodyMotion::Static) continue;
       Vector3r lo, hi;
       b.mesh.boundingBox(lo, hi);
       domainMin_ = domainMin_.cwiseMin(lo);
@@ -97,7 +100,7 @@ void Simulation::initializeFluid() {
 void Simulation::dropParticlesInsideBodies() {
   // Fluid inside a closed object (a block filled through a body) could never get out through
   // its sampled surface: drop it. Particles overlapping the surface are pushed out by the
-  // solver (DFSPH maxPushOutSpeed).
+  // solver (DFSPH overlapReliefSpeed).
   FluidModel& f = *fluid_;
   std::vector<char> inside(f.size(), 0);
   for (const BoundaryObject& o : scene_.boundaries) {

@@ -26,7 +26,7 @@ class DFSPH final : public PressureSolver {
     Real maxErrorDivergence;  // fraction of rho0 per time step
     int minIterations, maxIterations, maxIterationsDivergence;
     bool divergenceSolver, warmStart;
-    Real maxPushOutSpeed;  // m/s, 0: off
+    Real overlapReliefSpeed;  // m/s, 0: off
   } settings_;
 
   // Factor of beta_i in the boundary term: 1 (consistent, Eq. 33) or 1 + (rho_i / rho0)^2
