@@ -130,10 +130,9 @@ void Simulation::emitParticles() {
 void Simulation::coupleRigidBodies(StepContext& ctx) {
   // Eq. (35): the reaction of the solver's boundary term on every sample of a moving body,
   // summed into force and torque per body; then the bodies move and take their samples along.
-  if (bodies_->hasDynamic()) {
-    pressureSolver_->boundaryImpulses(ctx, pairImpulses_);
-    bodies_->gatherFluidImpulses(boundaryNeighbors_, boundaryModel_->samples(), pairImpulses_);
-  }
+  // Animated bodies are not moved by it, but their fluid force is reported too.
+  pressureSolver_->boundaryImpulses(ctx, pairImpulses_);
+  bodies_->gatherFluidImpulses(boundaryNeighbors_, boundaryModel_->samples(), pairImpulses_);
   bodies_->advance(dt_, scene_.gravity);
   bodies_->updateSamples(boundaryModel_->samples());
   boundaryModel_->markMoved();
