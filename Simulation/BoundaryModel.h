@@ -12,13 +12,38 @@
 
 namespace consph {
 
+// How a boundary object moves (docs/rigid-bodies.md).
+enum class BodyMotion {
+  Static,    // never moves
+  Dynamic,   // a rigid body moved by gravity and the fluid (two-way coupled, paper Section 3.5)
+  Animated   // kinematic: moves with a prescribed velocity, pushes the fluid, feels nothing
+};
+
+// A revolute joint about a fixed world axis through a fixed point, with an optional motor.
+struct HingeDescription {
+  bool enabled = false;
+  Vector3r point = Vector3r::Zero();          // m, a point on the axle
+  Vector3r axis = Vector3r::UnitZ();          // unit axis direction
+  bool motor = false;
+  Real targetVelocity = 0;                    // rad/s about axis
+  Real maxTorque = 0;                         // N m
+};
+
 // One boundary object of the scene, its geometry already in world space.
 struct BoundaryObject {
   std::string name;
+  std::string path;  // JSON path, for messages
   TriangleMesh mesh;
   bool isBox = false;  // an axis-aligned box [boxMin, boxMax]: sampled on regular face grids
   Vector3r boxMin = Vector3r::Zero(), boxMax = Vector3r::Zero();
   bool inverted = false;  // the fluid is inside (a container)
+
+  BodyMotion motion = BodyMotion::Static;
+  Real density = 0;  // kg/m^3 (dynamic bodies): mass and inertia follow from the closed mesh
+  // Dynamic: initial velocities; animated: the prescribed ones. About the centre of mass.
+  Vector3r velocity = Vector3r::Zero();         // m/s
+  Vector3r angularVelocity = Vector3r::Zero();  // rad/s
+  HingeDescription hinge;                       // dynamic bodies only
 };
 
 class BoundaryModel {

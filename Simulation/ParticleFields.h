@@ -2,6 +2,7 @@
 // maps 1:1 onto a NumPy view; flags tell sorting and export what to do with it, so a field a
 // plugin registers is re-sorted, exported and visible from Python without plugin-specific code.
 #pragma once
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <typeinfo>
@@ -32,6 +33,7 @@ class FieldBase {
   virtual void* data() = 0;
   virtual std::size_t size() const = 0;
   virtual void resize(std::size_t n) = 0;
+  virtual void reserve(std::size_t n) = 0;
   // values[i] = old[order[i]] for i < order.size(); entries past order.size() stay.
   virtual void permute(const std::vector<Index>& order) = 0;
 
@@ -58,6 +60,7 @@ class Field final : public FieldBase {
   void* data() override { return values.data(); }
   std::size_t size() const override { return values.size(); }
   void resize(std::size_t n) override { values.resize(n, initial_); }
+  void reserve(std::size_t n) override { values.reserve(n); }
   void permute(const std::vector<Index>& order) override {
     scratch_.resize(order.size());
     for (std::size_t i = 0; i < order.size(); ++i) scratch_[i] = values[order[i]];
@@ -83,6 +86,7 @@ class ParticleFields {
       return static_cast<Field<T>*>(existing)->values;
     }
     auto field = std::make_unique<Field<T>>(name, flags, size_, initial);
+    field->reserve(capacity_);
     auto& values = field->values;
     fields_.push_back(std::move(field));
     return values;
@@ -106,11 +110,30 @@ class ParticleFields {
     return false;
   }
 
+  // Within a reserved capacity no field reallocates, so data pointers (NumPy views) stay valid.
   void resize(std::size_t n) {
+    if (capacity_ > 0 && n > capacity_)
+      throw SimulationError("particle budget exceeded: " + std::to_string(n) + " particles, " + std::to_string(capacity_) +
+                            " reserved");
     size_ = n;
     for (auto& f : fields_) f->resize(n);
   }
   std::size_t size() const { return size_; }
+
+  // Reserves room for `capacity` particles in every field, present and future (emitters reserve
+  // their whole budget up front). After this, resize() beyond the capacity is an error.
+  void reserve(std::size_t capacity) {
+    capacity_ = std::max(capacity, size_);
+    for (auto& f : fields_) f->reserve(capacity_);
+  }
+  std::size_t capacity() const { return capacity_; }
+
+  // Keeps particles keep[0], keep[1], ... (increasing indices) in that order and drops the rest:
+  // every field, sorted or not, so no field keeps values of a removed particle.
+  void compact(const std::vector<Index>& keep) {
+    for (auto& f : fields_) f->permute(keep);
+    resize(keep.size());
+  }
 
   void permuteSorted(const std::vector<Index>& order) {
     for (auto& f : fields_)
@@ -121,6 +144,7 @@ class ParticleFields {
 
  private:
   std::size_t size_ = 0;
+  std::size_t capacity_ = 0;  // 0: not reserved, fields grow freely
   std::vector<std::unique_ptr<FieldBase>> fields_;
 };
 

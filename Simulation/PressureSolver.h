@@ -1,6 +1,9 @@
 // Interface of pressure solvers (DFSPH, IISPH, WCSPH, ...).
 #pragma once
+#include <vector>
+
 #include "Simulation/StepContext.h"
+#include "Utilities/Error.h"
 
 namespace consph {
 
@@ -20,6 +23,13 @@ class PressureSolver {
   // Called with v = v* = v(t) + dt a^np (Eq. 4); leaves v(t + dt) in fluid.velocities and the
   // pressure in fluid.pressures.
   virtual void solve(StepContext& ctx) = 0;
+  // Two-way coupling with dynamic bodies (paper Eq. (35)): for every pair e = (i, k) of
+  // ctx.boundaryNeighbors, the impulse (N s) that this step's pressure solve(s) gave boundary
+  // sample k: exactly minus the impulse fluid particle i received from k through the solver's
+  // boundary term, so the bodies gain the momentum the fluid lost. Called after solve().
+  virtual void boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const {
+    throw SimulationError("this pressure solver does not report boundary impulses, which dynamic bodies need");
+  }
   const PressureSolverStats& stats() const { return stats_; }
 
  protected:

@@ -99,6 +99,56 @@ std::string resolvePath(const std::string& baseDir, const std::string& file) {
   return p.lexically_normal().string();
 }
 
+// "dynamic", "density", "velocity", "angularVelocity", "animated" and "hinge" of a boundary.
+void parseBodyMotion(const json& b, const Params& p, BoundaryObject& o, const LogSink& log) {
+  const std::string& path = o.path;
+  const bool dynamic = p.boolean("dynamic"), animated = b.contains("animated");
+  if (dynamic && animated) throw InputError(path + ": an object is either \"dynamic\" or \"animated\", not both");
+  if ((dynamic || animated) && o.inverted) throw InputError(path + ".inverted: a moving object cannot be a container");
+  if (!dynamic) {
+    for (const char* key : {"density", "velocity", "angularVelocity", "hinge"})
+      if (b.contains(key)) throw InputError(at(path, key) + ": only a dynamic object (\"dynamic\": true) takes this key");
+  }
+  if (dynamic) {
+    o.motion = BodyMotion::Dynamic;
+    if (!b.contains("density")) throw InputError(at(path, "density") + ": required number is missing (a dynamic body needs a density, kg/m^3)");
+    Params dp(json{{"density", b["density"]}}, path, {{"density", ParamType::Real, json(), "density of a dynamic body, kg/m^3", 1e-6, 1e9}}, log, {});
+    o.density = dp.real("density");
+    o.velocity = p.vector3("velocity");
+    o.angularVelocity = p.vector3("angularVelocity");
+  }
+  if (animated) {
+    o.motion = BodyMotion::Animated;
+    Params ap(b["animated"], at(path, "animated"),
+              {{"velocity", ParamType::Vector3, json::array({0, 0, 0}), "prescribed velocity, m/s"},
+               {"angularVelocity", ParamType::Vector3, json::array({0, 0, 0}), "prescribed angular velocity about the centre, rad/s"}},
+              log, {});
+    o.velocity = ap.vector3("velocity");
+    o.angularVelocity = ap.vector3("angularVelocity");
+  }
+  if (b.contains("hinge")) {
+    const std::string hp = at(path, "hinge");
+    Params h(b["hinge"], hp,
+             {{"point", ParamType::Vector3, json(), "a point on the axle, m"},
+              {"axis", ParamType::Vector3, json(), "axle direction (normalised)"}},
+             log, {"motor"});
+    o.hinge.enabled = true;
+    o.hinge.point = h.vector3("point");
+    const Vector3r axis = h.vector3("axis");
+    if (axis.norm() < Real(1e-9)) throw InputError(at(hp, "axis") + ": must not be the zero vector");
+    o.hinge.axis = axis.normalized();
+    if (b["hinge"].contains("motor")) {
+      Params m(b["hinge"]["motor"], at(hp, "motor"),
+               {{"targetVelocity", ParamType::Real, json(), "target angular velocity about the axis, rad/s"},
+                {"maxTorque", ParamType::Real, json(), "largest torque the motor exerts, N m", 0, 1e12}},
+               log, {});
+      o.hinge.motor = true;
+      o.hinge.targetVelocity = m.real("targetVelocity");
+      o.hinge.maxTorque = m.real("maxTorque");
+    }
+  }
+}
+
 BoundaryObject parseBoundary(const json& b, const std::string& path, const std::string& baseDir, const LogSink& log) {
   expectObject(b, path);
   const bool hasBox = b.contains("box"), hasMesh = b.contains("mesh");
@@ -110,11 +160,16 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
             {"rotationAxis", ParamType::Vector3, json::array({0, 0, 1}), "rotation axis"},
             {"rotationAngle", ParamType::Real, 0.0, "rotation angle about rotationAxis, radians"},
             {"scale", ParamType::Vector3, json::array({1, 1, 1}), "scale per axis, applied first"},
-            {"inverted", ParamType::Bool, false, "the fluid is inside the object (a container)"}},
-           log, {"box"});
+            {"inverted", ParamType::Bool, false, "the fluid is inside the object (a container)"},
+            {"dynamic", ParamType::Bool, false, "a rigid body moved by gravity and the fluid (two-way coupling)"},
+            {"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity of a dynamic body's centre of mass, m/s"},
+            {"angularVelocity", ParamType::Vector3, json::array({0, 0, 0}), "initial angular velocity of a dynamic body, rad/s"}},
+           log, {"box", "animated", "hinge", "density"});
   BoundaryObject o;
   o.name = p.string("name");
+  o.path = path;
   o.inverted = p.boolean("inverted");
+  parseBodyMotion(b, p, o, log);
   const Vector3r translation = p.vector3("translation"), scale = p.vector3("scale"), axis = p.vector3("rotationAxis");
   const Real angle = p.real("rotationAngle");
   if (hasBox) {
@@ -136,6 +191,39 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
   }
   transformMesh(o.mesh, scale, axis, angle, translation);
   return o;
+}
+
+EmitterDescription parseEmitter(const json& e, const std::string& path, const LogSink& log) {
+  Params p(e, path,
+           {{"shape", ParamType::String, "rectangle", "nozzle shape", -std::numeric_limits<double>::infinity(),
+             std::numeric_limits<double>::infinity(), {"rectangle", "circle"}},
+            {"position", ParamType::Vector3, json(), "centre of the nozzle, m"},
+            {"direction", ParamType::Vector3, json(), "emission direction (normalised)"},
+            {"speed", ParamType::Real, json(), "emission speed, m/s", 1e-6, 1e4},
+            {"width", ParamType::Real, 0.0, "rectangle: extent along the horizontal nozzle axis, m", 0, 1e6},
+            {"height", ParamType::Real, 0.0, "rectangle: extent along the other nozzle axis, m", 0, 1e6},
+            {"radius", ParamType::Real, 0.0, "circle: radius, m", 0, 1e6},
+            {"start", ParamType::Real, 0.0, "time the first layer leaves the nozzle, s", 0, 1e9},
+            {"end", ParamType::Real, 1e9, "time emission stops, s (the budget counts up to min(end, stopAt))", 0, 1e9}},
+           log, {});
+  EmitterDescription d;
+  d.path = path;
+  d.circle = p.string("shape") == "circle";
+  d.position = p.vector3("position");
+  d.direction = p.vector3("direction");
+  if (d.direction.norm() < Real(1e-9)) throw InputError(p.pathOf("direction") + ": must not be the zero vector");
+  d.direction.normalize();
+  d.speed = p.real("speed");
+  d.width = p.real("width");
+  d.height = p.real("height");
+  d.radius = p.real("radius");
+  d.start = p.real("start");
+  d.end = p.real("end");
+  if (d.circle && d.radius <= 0) throw InputError(p.pathOf("radius") + ": a circular nozzle needs a radius > 0");
+  if (!d.circle && (d.width <= 0 || d.height <= 0))
+    throw InputError(path + ": a rectangular nozzle needs \"width\" and \"height\" > 0");
+  if (d.end <= d.start) throw InputError(p.pathOf("end") + ": must exceed start");
+  return d;
 }
 
 }  // namespace
@@ -212,7 +300,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
     Params fp(fluids[f], path,
               {{"name", ParamType::String, "fluid", "name of the fluid (output files, Python)"},
                {"density0", ParamType::Real, 1000.0, "rest density rho0, kg/m^3", 1e-3, 1e6}},
-              log, {"forces", "blocks"});
+              log, {"forces", "blocks", "emitters", "removeOutside"});
     FluidDescription fd;
     fd.name = fp.string("name");
     fd.density0 = fp.real("density0");
@@ -226,7 +314,20 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
       if (!fd.forces[i].contains("type") || !fd.forces[i]["type"].is_string()) throw InputError(fpth + ".type: required string is missing");
     }
     const json& blocks = child(fluids[f], "blocks");
-    if (!blocks.is_array() || blocks.empty()) throw InputError(path + ".blocks: expected a non-empty array of blocks");
+    const json& emitters = child(fluids[f], "emitters");
+    if (!emitters.is_null() && !emitters.is_array()) throw InputError(path + ".emitters: expected an array of emitters");
+    for (std::size_t e = 0; e < emitters.size(); ++e)
+      fd.emitters.push_back(parseEmitter(emitters[e], path + ".emitters[" + std::to_string(e) + "]", log));
+    if (const json& ro = child(fluids[f], "removeOutside"); !ro.is_null()) {
+      Params rp(ro, path + ".removeOutside",
+                {{"min", ParamType::Vector3, json(), "lower corner, m"}, {"max", ParamType::Vector3, json(), "upper corner, m"}}, log, {});
+      fd.removeOutside = true;
+      fd.removeMin = rp.vector3("min");
+      fd.removeMax = rp.vector3("max");
+      if ((fd.removeMax - fd.removeMin).minCoeff() <= 0) throw InputError(path + ".removeOutside: max must exceed min on every axis");
+    }
+    if (!blocks.is_null() && !blocks.is_array()) throw InputError(path + ".blocks: expected an array of blocks");
+    if (blocks.empty() && fd.emitters.empty()) throw InputError(path + ".blocks: expected a non-empty array of blocks (or emitters)");
     for (std::size_t b = 0; b < blocks.size(); ++b) {
       const std::string bpth = path + ".blocks[" + std::to_string(b) + "]";
       Params bp2(blocks[b], bpth,

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "Simulation/BoundaryModel.h"
+#include "Simulation/Emitter.h"
 #include "Simulation/Params.h"
 #include "Simulation/StepContext.h"
 
@@ -21,6 +22,9 @@ struct FluidDescription {
   json forces;       // array of plugin objects, applied in this order
   std::string path;  // JSON path of this fluid, for messages
   std::vector<FluidBlock> blocks;
+  std::vector<EmitterDescription> emitters;
+  bool removeOutside = false;  // particles outside [removeMin, removeMax] are removed
+  Vector3r removeMin = Vector3r::Zero(), removeMax = Vector3r::Zero();
 };
 
 struct OutputSettings {

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "Boundary/MassProperties.h"
 #include "Utilities/Timer.h"
 #include "Utilities/VtkWriter.h"
 
@@ -15,12 +16,20 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
     : scene_(std::move(scene)), plugins_(plugins), log_(std::move(log)), kernel_(4 * scene_.particleRadius) {
   const FluidDescription& fd = scene_.fluids.at(0);
   fluid_ = std::make_unique<FluidModel>(fd.name, fd.density0);
+  for (const EmitterDescription& e : fd.emitters) emitters_.emplace_back(e, scene_.particleRadius, scene_.stopAt);
   initializeFluid();
+  dropParticlesInsideBodies();
 
   const PluginContext context{fluid_.get(), scene_.particleRadius, kernel_.supportRadius(), log_};
   boundaryModel_ = plugins_.boundaryModels.create(scene_.boundaryModel["type"].get<std::string>(), scene_.boundaryModel,
                                                   "simulation.boundaryModel", context, log_);
   boundaryModel_->initialize(scene_.boundaries, fluid_->density0(), kernel_);
+  for (const BoundaryObject& o : scene_.boundaries)
+    if (o.motion != BodyMotion::Static) {
+      bodies_ = std::make_unique<RigidBodySystem>(scene_.boundaries, boundaryModel_->samples(), log_);
+      bodies_->updateSamples(boundaryModel_->samples());  // the bodies' initial velocities
+      break;
+    }
   pressureSolver_ = plugins_.pressureSolvers.create(scene_.pressureSolver["type"].get<std::string>(), scene_.pressureSolver,
                                                     "simulation.pressureSolver", context, log_);
   for (std::size_t i = 0; i < fd.forces.size(); ++i)
@@ -32,11 +41,14 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
     hasDomain_ = true;
     domainMin_ = scene_.domainMin;
     domainMax_ = scene_.domainMax;
-  } else if (!scene_.boundaries.empty()) {
+  } else if (std::any_of(scene_.boundaries.begin(), scene_.boundaries.end(),
+                         [](const BoundaryObject& b) { return b.motion == BodyMotion::Static; })) {
+    // Moving bodies do not count: they go where the fluid takes them.
     hasDomain_ = true;
     domainMin_ = Vector3r::Constant(std::numeric_limits<Real>::max());
     domainMax_ = -domainMin_;
     for (auto& b : scene_.boundaries) {
+      if (b.motion != BodyMotion::Static) continue;
       Vector3r lo, hi;
       b.mesh.boundingBox(lo, hi);
       domainMin_ = domainMin_.cwiseMin(lo);
@@ -71,7 +83,14 @@ void Simulation::initializeFluid() {
         }
   }
   FluidModel& f = *fluid_;
+  // Emitters' budgets up front: no field reallocates later, so data pointers never move.
+  if (!emitters_.empty()) {
+    std::size_t budget = x.size();
+    for (const Emitter& e : emitters_) budget += e.capacity();
+    f.fields().reserve(budget);
+  }
   f.resize(x.size());
+  nextId_ = Index(x.size());
   const Real mass = f.density0() * d * d * d;
   for (std::size_t i = 0; i < x.size(); ++i) {
     f.positions[i] = x[i];
@@ -79,6 +98,61 @@ void Simulation::initializeFluid() {
     f.masses[i] = mass;
     f.ids[i] = Index(i);
   }
+}
+
+void Simulation::dropParticlesInsideBodies() {
+  // Fluid inside a closed object (a block filled through a body) could never get out through
+  // its sampled surface: drop it. Particles overlapping the surface are pushed out by the
+  // solver (DFSPH overlapReliefSpeed).
+  FluidModel& f = *fluid_;
+  std::vector<char> inside(f.size(), 0);
+  for (const BoundaryObject& o : scene_.boundaries) {
+    if (o.inverted) continue;
+    Vector3r lo, hi;
+    o.mesh.boundingBox(lo, hi);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+      const Vector3r& x = f.positions[i];
+      if ((x - lo).minCoeff() < 0 || (hi - x).minCoeff() < 0) continue;
+      if (o.isBox || windingNumber(o.mesh, x) > Real(0.5)) inside[i] = 1;
+    }
+  }
+  std::vector<Index> keep;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (!inside[i]) keep.push_back(Index(i));
+  if (keep.size() == f.size()) return;
+  stats_.particlesDroppedInsideBodies = f.size() - keep.size();
+  f.fields().compact(keep);
+  log_(LogLevel::Info, std::to_string(stats_.particlesDroppedInsideBodies) + " fluid particles inside boundary objects dropped at start-up");
+}
+
+void Simulation::emitParticles() {
+  for (Emitter& e : emitters_) stats_.particlesEmitted += e.emit(*fluid_, time_, dt_, nextId_);
+}
+
+void Simulation::coupleRigidBodies(StepContext& ctx) {
+  // Eq. (35): the reaction of the solver's boundary term on every sample of a moving body,
+  // summed into force and torque per body; then the bodies move and take their samples along.
+  // Animated bodies are not moved by it, but their fluid force is reported too.
+  pressureSolver_->boundaryImpulses(ctx, pairImpulses_);
+  bodies_->gatherFluidImpulses(boundaryNeighbors_, boundaryModel_->samples(), pairImpulses_);
+  bodies_->advance(dt_, scene_.gravity);
+  bodies_->updateSamples(boundaryModel_->samples());
+  boundaryModel_->markMoved();
+}
+
+void Simulation::removeParticlesOutside() {
+  const FluidDescription& fd = scene_.fluids[0];
+  FluidModel& f = *fluid_;
+  std::vector<Index> keep;
+  keep.reserve(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const Vector3r& x = f.positions[i];
+    if ((x - fd.removeMin).minCoeff() >= 0 && (fd.removeMax - x).minCoeff() >= 0) keep.push_back(Index(i));
+  }
+  if (keep.size() == f.size()) return;
+  stats_.particlesRemoved += f.size() - keep.size();
+  f.fields().compact(keep);
 }
 
 StepContext Simulation::makeContext() {
@@ -92,6 +166,11 @@ void Simulation::step() {
   Timer stepTimer;
   StepContext ctx = makeContext();
 
+  // Emitters: new layers of particles leave their nozzles.
+  if (!emitters_.empty()) {
+    ScopedTimer t(stats_.emission);
+    emitParticles();
+  }
   // Neighbours: once per step, reused by every loop below.
   {
     ScopedTimer t(stats_.neighbourSearch);
@@ -128,11 +207,16 @@ void Simulation::step() {
   const PressureSolverStats& ps = pressureSolver_->stats();
   stats_.pressureIterations += ps.pressureIterations;
   stats_.divergenceIterations += ps.divergenceIterations;
-  // Rigid-body coupling goes here (dynamic bodies).
-  // Integration: x(t + dt) = x(t) + dt v(t + dt).
+  // Rigid-body coupling: fluid impulses move the bodies (Eq. 35), the bodies move their samples.
+  if (bodies_) {
+    ScopedTimer t(stats_.rigidBodies);
+    coupleRigidBodies(ctx);
+  }
+  // Integration: x(t + dt) = x(t) + dt v(t + dt); then particles that left the removal box go.
   {
     ScopedTimer t(stats_.integration);
     integrate();
+    if (scene_.fluids[0].removeOutside) removeParticlesOutside();
   }
   dtPrevious_ = dt_;
   time_ += dt_;
@@ -267,6 +351,10 @@ void Simulation::setOutputDirectory(const std::string& dir) {
   scene_.output.directory = dir;
   scene_.output.enabled = true;
   writer_ = std::make_unique<VtkSeries>(dir, fluid_->name());
+  if (bodies_) {
+    bodyWriter_ = std::make_unique<VtkSeries>(dir, "bodies");
+    bodyCsv_ = RigidBodySystem::csvHeader();
+  }
   // The boundary once, for context in ParaView.
   const BoundarySamples& b = boundaryModel_->samples();
   if (b.size() > 0) {
@@ -279,7 +367,7 @@ void Simulation::setOutputDirectory(const std::string& dir) {
 }
 
 void Simulation::setOutputEnabled(bool enabled) {
-  if (!enabled) writer_.reset();
+  if (!enabled) writer_.reset(), bodyWriter_.reset();
   else if (!writer_) setOutputDirectory(scene_.output.directory);
   scene_.output.enabled = enabled;
 }
@@ -293,6 +381,12 @@ void Simulation::writeFrameIfDue() {
   // A frame is due once the simulated time reaches index / fps (within half a step).
   if (time_ + Real(0.5) * dt_ < Real(nextFrame_) / scene_.output.fps) return;
   writer_->write(nextFrame_, time_, particlesToVtu(fluid_->fields(), fluid_->size()));
+  if (bodyWriter_) {
+    // The bodies' surfaces as a second series, and their state as one CSV row per body.
+    bodyWriter_->write(nextFrame_, time_, bodies_->meshesToVtu());
+    bodyCsv_ += bodies_->csvRows(time_);
+    writeFileAtomically((std::filesystem::path(scene_.output.directory) / "bodies.csv").string(), bodyCsv_);
+  }
   ++nextFrame_;
 }
 
@@ -323,6 +417,10 @@ json Simulation::summary() const {
       {"maxDensityErrorPercent", 100.0 * s.densityErrorMax},
       {"iterationCapHits", s.iterationCapHits},
       {"particlesLost", s.particlesLost},
+      {"particlesEmitted", s.particlesEmitted},
+      {"particlesRemoved", s.particlesRemoved},
+      {"particlesDroppedInsideBodies", s.particlesDroppedInsideBodies},
+      {"movingBodies", bodies_ ? bodies_->bodies().size() : 0},
       {"msPerStep", 1000.0 * s.wallSeconds / steps},
       {"usPerParticleStep", 1e6 * s.wallSeconds / steps / double(std::max<std::size_t>(fluid_->size(), 1))},
       {"phaseSeconds",
@@ -332,6 +430,8 @@ json Simulation::summary() const {
         {"nonPressureForces", s.nonPressureForces},
         {"pressureSolve", s.pressureSolve},
         {"integration", s.integration},
+        {"rigidBodies", s.rigidBodies},
+        {"emission", s.emission},
         {"export", s.exportTime}}},
   };
 }

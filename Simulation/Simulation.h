@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "Boundary/RigidBodySystem.h"
+#include "Simulation/Emitter.h"
 #include "Simulation/PluginRegistry.h"
 #include "Simulation/Scene.h"
 #include "Utilities/Log.h"
@@ -23,9 +25,11 @@ struct SimulationStats {
   std::size_t densityErrorSamples = 0;
   std::size_t iterationCapHits = 0, consecutiveCapHits = 0;
   std::size_t particlesLost = 0;
+  std::size_t particlesEmitted = 0, particlesRemoved = 0;  // by emitters / removeOutside
+  std::size_t particlesDroppedInsideBodies = 0;            // at start-up, inside closed bodies
   // seconds per phase
   double neighbourSearch = 0, densities = 0, divergenceSolve = 0, nonPressureForces = 0, pressureSolve = 0,
-         integration = 0, exportTime = 0;
+         integration = 0, exportTime = 0, rigidBodies = 0, emission = 0;
 };
 
 class Simulation {
@@ -36,8 +40,9 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  // One time step, top to bottom: neighbours, densities, (divergence solve), non-pressure forces,
-  // time step, pressure solve, integration, checks, export.
+  // One time step, top to bottom: emitters, neighbours, densities, (divergence solve),
+  // non-pressure forces, time step, pressure solve, rigid-body coupling, integration, particle
+  // removal, checks, export.
   void step();
   // Steps until `until` (simulated seconds); `progress` is called after every step.
   void run(Real until, const std::function<void(const Simulation&)>& progress = {});
@@ -57,6 +62,9 @@ class Simulation {
   const NeighborLists& boundaryNeighbors() const { return boundaryNeighbors_; }
   const CubicSplineKernel& kernel() const { return kernel_; }
   const LogSink& log() const { return log_; }
+  // The moving boundary objects (dynamic and animated bodies); null when every object is static.
+  const RigidBodySystem* rigidBodies() const { return bodies_.get(); }
+  RigidBodySystem* rigidBodies() { return bodies_.get(); }
 
   // Appends a force (e.g. one written in Python) after the scene's forces.
   void addForce(std::unique_ptr<NonPressureForce> force);
@@ -76,6 +84,10 @@ class Simulation {
 
  private:
   void initializeFluid();
+  void dropParticlesInsideBodies();
+  void emitParticles();
+  void coupleRigidBodies(StepContext& ctx);
+  void removeParticlesOutside();
   void findNeighbors();
   void computeDensities();
   void computeNonPressureAccelerations(StepContext& ctx);
@@ -95,7 +107,12 @@ class Simulation {
   std::vector<std::unique_ptr<NonPressureForce>> forces_;
   PointGrid fluidGrid_;
   NeighborLists fluidNeighbors_, boundaryNeighbors_;
-  std::unique_ptr<VtkSeries> writer_;
+  std::unique_ptr<VtkSeries> writer_, bodyWriter_;
+  std::string bodyCsv_;  // every frame's body rows so far (rewritten atomically per frame)
+  std::unique_ptr<RigidBodySystem> bodies_;
+  std::vector<Vector3r> pairImpulses_;  // per fluid-boundary pair, this step (two-way coupling)
+  std::vector<Emitter> emitters_;
+  Index nextId_ = 0;                    // id of the next emitted particle
 
   Real time_ = 0, dt_ = 0, dtPrevious_ = 0;
   bool hasDomain_ = false;

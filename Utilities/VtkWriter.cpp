@@ -35,11 +35,17 @@ void VtuPointCloud::add(const std::string& name, const Index* values) {
 }
 
 std::string VtuPointCloud::serialize() const {
-  std::vector<std::int64_t> connectivity(n_), offsets(n_);
-  std::vector<std::uint8_t> types(n_, 1);  // VTK_VERTEX
-  for (std::size_t i = 0; i < n_; ++i) {
-    connectivity[i] = std::int64_t(i);
-    offsets[i] = std::int64_t(i + 1);
+  const bool mesh = triangles_ != nullptr;
+  const std::size_t cells = mesh ? nTriangles_ : n_;
+  std::vector<std::int64_t> connectivity, offsets(cells);
+  std::vector<std::uint8_t> types(cells, mesh ? 5 : 1);  // VTK_TRIANGLE or VTK_VERTEX
+  connectivity.reserve(mesh ? 3 * cells : cells);
+  for (std::size_t c = 0; c < cells; ++c) {
+    if (mesh)
+      for (Index v : triangles_[c]) connectivity.push_back(std::int64_t(v));
+    else
+      connectivity.push_back(std::int64_t(c));
+    offsets[c] = std::int64_t(connectivity.size());
   }
   std::ostringstream xml, data;
   std::uint64_t offset = 0;
@@ -53,7 +59,7 @@ std::string VtuPointCloud::serialize() const {
   };
   xml << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
          "header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
-      << n_ << "\" NumberOfCells=\"" << n_ << "\">\n<PointData>\n";
+      << n_ << "\" NumberOfCells=\"" << cells << "\">\n<PointData>\n";
   for (auto& a : arrays_)
     xml << "<DataArray type=\"" << a.type << "\" Name=\"" << a.name << "\" NumberOfComponents=\"" << a.components
         << "\" format=\"appended\" offset=\"" << appended(a.data, a.bytes) << "\"/>\n";
@@ -61,10 +67,10 @@ std::string VtuPointCloud::serialize() const {
       << "\" NumberOfComponents=\"3\" format=\"appended\" offset=\"" << appended(positions_, n_ * 3 * sizeof(Real))
       << "\"/>\n</Points>\n<Cells>\n";
   xml << "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"appended\" offset=\""
-      << appended(connectivity.data(), n_ * 8) << "\"/>\n";
-  xml << "<DataArray type=\"Int64\" Name=\"offsets\" format=\"appended\" offset=\"" << appended(offsets.data(), n_ * 8)
+      << appended(connectivity.data(), connectivity.size() * 8) << "\"/>\n";
+  xml << "<DataArray type=\"Int64\" Name=\"offsets\" format=\"appended\" offset=\"" << appended(offsets.data(), cells * 8)
       << "\"/>\n";
-  xml << "<DataArray type=\"UInt8\" Name=\"types\" format=\"appended\" offset=\"" << appended(types.data(), n_)
+  xml << "<DataArray type=\"UInt8\" Name=\"types\" format=\"appended\" offset=\"" << appended(types.data(), cells)
       << "\"/>\n";
   xml << "</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";
   std::string out = xml.str();

@@ -1,6 +1,7 @@
 // Binary VTK XML output (.vtu, appended raw data) that ParaView opens, plus a .pvd collection.
 // Every file is written to a temporary name and renamed, so a crash never leaves half a frame.
 #pragma once
+#include <array>
 #include <string>
 #include <vector>
 
@@ -11,12 +12,17 @@ namespace consph {
 // Writes `contents` to `path` atomically (temporary file in the same folder, then rename).
 void writeFileAtomically(const std::string& path, const std::string& contents);
 
-// One point cloud: positions and named point arrays.
+// One point cloud: positions and named point arrays; with triangles, a surface mesh instead.
 class VtuPointCloud {
  public:
   VtuPointCloud(const Vector3r* positions, std::size_t n) : positions_(positions), n_(n) {}
   void add(const std::string& name, const Real* values, int components);
   void add(const std::string& name, const Index* values);
+  // Cells become these triangles (indices into the points) instead of one vertex per point.
+  void setTriangles(const std::array<Index, 3>* triangles, std::size_t count) {
+    triangles_ = triangles;
+    nTriangles_ = count;
+  }
   std::string serialize() const;
 
  private:
@@ -28,6 +34,8 @@ class VtuPointCloud {
   };
   const Vector3r* positions_;
   std::size_t n_;
+  const std::array<Index, 3>* triangles_ = nullptr;
+  std::size_t nTriangles_ = 0;
   std::vector<Array> arrays_;
 };
 

@@ -24,6 +24,10 @@ std::vector<ParamSpec> DFSPH::parameters() {
       {"maxIterationsDivergence", ParamType::Int, 100, "maximum iterations of the divergence solve", 1, 100000},
       {"enableDivergenceSolver", ParamType::Bool, true, "run the divergence-free solve"},
       {"warmStart", ParamType::Bool, true, "start both solves from the previous step's pressures"},
+      {"overlapReliefSpeed", ParamType::Real, 0.25,
+       "overlap relief: a particle more than 1 % over rho0 at the start of a step (an overlap with a body) "
+       "is asked to lose at most rho0 overlapReliefSpeed dt / h of density per step instead of all of it, "
+       "which would fling it out; measured push-out speeds are about 4 times this, m/s (0: off)", 0, 1e6},
   };
 }
 
@@ -37,6 +41,7 @@ DFSPH::DFSPH(const Params& p, FluidModel& fluid)
   settings_.maxIterationsDivergence = p.integer("maxIterationsDivergence");
   settings_.divergenceSolver = p.boolean("enableDivergenceSolver");
   settings_.warmStart = p.boolean("warmStart");
+  settings_.overlapReliefSpeed = p.real("overlapReliefSpeed");
   if (settings_.minIterations > settings_.maxIterations)
     throw InputError(p.pathOf("minIterations") + ": must not exceed maxIterations");
 }
@@ -80,6 +85,14 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
   const auto& bn = ctx.boundaryNeighbors;
   const Real rho0 = f.density0(), dt = ctx.dt;
   const std::size_t n = f.size();
+  // Overlap relief: the target density of a particle that is already far too dense (an overlap
+  // with a body at start-up) is lowered by at most maxDensityDrop per step instead of to rho0
+  // at once, which needs about (overlap depth) / dt, more where grad W vanishes near a sample.
+  // Particles within 1 % of rho0 (every particle of a converged run) keep the target rho0.
+  const Real maxDensityDrop = settings_.overlapReliefSpeed > 0
+                                  ? std::max(rho0 * settings_.overlapReliefSpeed * dt / ctx.kernel.supportRadius(),
+                                             Real(0.01) * rho0)
+                                  : std::numeric_limits<Real>::infinity();
   double errorSum = 0;
 #pragma omp parallel for schedule(static) reduction(+ : errorSum)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
@@ -99,7 +112,8 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
       errorSum += s * dt / rho0;
     } else {
       // rho*_i - rho0 with rho*_i = rho_i + dt D rho_i / Dt (Eq. 6), compression only.
-      s = std::max(f.densities[i] + dt * drho - rho0, Real(0));
+      const Real target = std::max(rho0, f.densities[i] - maxDensityDrop);
+      s = std::max(f.densities[i] + dt * drho - target, Real(0));
       increment_[i] = s * invDiagonal_[i] / (dt * dt);
       errorSum += s / rho0;
     }
@@ -108,13 +122,20 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
   return n ? Real(errorSum / double(n)) : Real(0);
 }
 
+Real DFSPH::boundaryFactor(const StepContext& ctx, std::size_t i) const {
+  // Boundary: consistent, Eq. (33): m~_k lambda_i / rho_i = m~_k beta_i;
+  // mirroring, Eq. (16) with p_k = p_i: m~_k p_i (1 / rho_i^2 + 1 / rho0^2).
+  if (ctx.boundaryPressure != BoundaryPressure::Mirroring) return Real(1);
+  const Real rhoRatio = ctx.fluid.densities[i] / ctx.fluid.density0();
+  return Real(1) + rhoRatio * rhoRatio;
+}
+
 void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k) {
   FluidModel& f = ctx.fluid;
   const BoundarySamples& b = ctx.boundary;
   const auto& fn = ctx.fluidNeighbors;
   const auto& bn = ctx.boundaryNeighbors;
-  const Real dt = ctx.dt, rho0 = f.density0();
-  const bool mirroring = ctx.boundaryPressure == BoundaryPressure::Mirroring;
+  const Real dt = ctx.dt;
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
     const Real ki = k[i];
@@ -123,10 +144,7 @@ void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k)
       const Index j = fn.indices[e];
       dv -= f.masses[j] * (ki + k[j]) * fn.gradW[e];
     }
-    // Boundary: consistent, Eq. (33): m~_k lambda_i / rho_i = m~_k beta_i;
-    // mirroring, Eq. (16) with p_k = p_i: m~_k p_i (1 / rho_i^2 + 1 / rho0^2).
-    const Real rhoRatio = f.densities[i] / rho0;
-    const Real kb = mirroring ? ki * (Real(1) + rhoRatio * rhoRatio) : ki;
+    const Real kb = ki * boundaryFactor(ctx, i);
     for (Index e = bn.begin(i); e < bn.end(i); ++e) dv -= b.masses[bn.indices[e]] * kb * bn.gradW[e];
     f.velocities[i] += dt * dv;
   }
@@ -148,12 +166,14 @@ void DFSPH::warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale) {
 
 void DFSPH::beforeNonPressureForces(StepContext& ctx) {
   stats_ = PressureSolverStats();
+  divergenceDt_ = 0;
   computeDiagonal(ctx);
   FluidModel& f = ctx.fluid;
   const std::size_t n = f.size();
   if (!settings_.divergenceSolver) return;
   // The step size of this step is not chosen yet: the divergence solve runs with the last one.
   ctx.dt = ctx.dtPrevious;
+  divergenceDt_ = ctx.dt;
   warmStart(ctx, divergenceBeta_, Real(1));
   Real error = computeSources(ctx, true);
   int it = 0;
@@ -192,6 +212,22 @@ void DFSPH::solve(StepContext& ctx) {
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i)
     f.pressures[i] = (densityBeta_[i] + divergenceScale * divergenceBeta_[i]) * f.densities[i] * f.densities[i];
+}
+
+void DFSPH::boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const {
+  // Every application of the boundary term (warm start and each iteration, both solves) changed
+  // v_i by -dt m~_k factor_i beta grad W_ik with this step's fixed gradients and densities, so
+  // the applications of one solve add up to its accumulated beta: the reaction on k is Eq. (35),
+  // m_i m~_k factor_i (dt_div beta_div,i + dt beta_density,i) grad W_ik (beta_i = p_i / rho_i^2).
+  const FluidModel& f = ctx.fluid;
+  const BoundarySamples& b = ctx.boundary;
+  const auto& bn = ctx.boundaryNeighbors;
+  impulsePerPair.resize(bn.pairCount());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+    const Real c = f.masses[i] * boundaryFactor(ctx, i) * (divergenceDt_ * divergenceBeta_[i] + ctx.dt * densityBeta_[i]);
+    for (Index e = bn.begin(i); e < bn.end(i); ++e) impulsePerPair[e] = (c * b.masses[bn.indices[e]]) * bn.gradW[e];
+  }
 }
 
 }  // namespace consph

@@ -17,6 +17,7 @@ class DFSPH final : public PressureSolver {
   DFSPH(const Params& params, FluidModel& fluid);
   void beforeNonPressureForces(StepContext& ctx) override;
   void solve(StepContext& ctx) override;
+  void boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const override;
   static std::vector<ParamSpec> parameters();
 
  private:
@@ -25,7 +26,12 @@ class DFSPH final : public PressureSolver {
     Real maxErrorDivergence;  // fraction of rho0 per time step
     int minIterations, maxIterations, maxIterationsDivergence;
     bool divergenceSolver, warmStart;
+    Real overlapReliefSpeed;  // m/s, 0: off
   } settings_;
+
+  // Factor of beta_i in the boundary term: 1 (consistent, Eq. 33) or 1 + (rho_i / rho0)^2
+  // (mirroring, Eq. 16 with p_k = p_i).
+  Real boundaryFactor(const StepContext& ctx, std::size_t i) const;
 
   void computeDiagonal(StepContext& ctx);
   // Applies (a scaled half of) last step's accumulated beta, or zeroes it.
@@ -41,6 +47,7 @@ class DFSPH final : public PressureSolver {
   std::vector<Real> invDiagonal_;      // 1 / D_i (Eq. 32 without the -dt / rho_i^2 factor)
   std::vector<Real> source_;           // per-particle source of the current iteration
   std::vector<Real> increment_;        // beta increment of the current iteration
+  Real divergenceDt_ = 0;              // the time step the divergence solve of this step used
 };
 
 }  // namespace consph

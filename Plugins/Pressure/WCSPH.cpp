@@ -21,6 +21,14 @@ std::vector<ParamSpec> WCSPH::parameters() {
 
 WCSPH::WCSPH(const Params& p) : stiffness_(p.real("stiffness")), exponent_(p.real("exponent")) {}
 
+namespace {
+// Boundary: Eq. (33) (consistent) or Eq. (16) with p_k = p_i (mirroring): a_i -= m~_k bb grad W_ik.
+Real boundaryTerm(const FluidModel& f, std::size_t i, bool mirroring) {
+  const Real bi = f.pressures[i] / (f.densities[i] * f.densities[i]);
+  return mirroring ? bi + f.pressures[i] / (f.density0() * f.density0()) : bi;
+}
+}  // namespace
+
 void WCSPH::solve(StepContext& ctx) {
   stats_ = PressureSolverStats();
   FluidModel& f = ctx.fluid;
@@ -46,12 +54,24 @@ void WCSPH::solve(StepContext& ctx) {
       const Index j = fn.indices[e];
       a -= f.masses[j] * (bi + f.pressures[j] / (f.densities[j] * f.densities[j])) * fn.gradW[e];
     }
-    // Boundary: Eq. (33) (consistent) or Eq. (16) with p_k = p_i (mirroring).
-    const Real bb = mirroring ? bi + f.pressures[i] / (rho0 * rho0) : bi;
+    const Real bb = boundaryTerm(f, i, mirroring);
     for (Index e = bn.begin(i); e < bn.end(i); ++e) a -= b.masses[bn.indices[e]] * bb * bn.gradW[e];
     f.velocities[i] += dt * a;
   }
   stats_.densityError = n ? Real(errorSum / double(n)) : Real(0);
+}
+
+void WCSPH::boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const {
+  // The reaction of the boundary term, Eq. (35): dt m_i m~_k bb_i grad W_ik.
+  const FluidModel& f = ctx.fluid;
+  const auto& bn = ctx.boundaryNeighbors;
+  const bool mirroring = ctx.boundaryPressure != BoundaryPressure::Consistent;
+  impulsePerPair.resize(bn.pairCount());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+    const Real c = ctx.dt * f.masses[i] * boundaryTerm(f, i, mirroring);
+    for (Index e = bn.begin(i); e < bn.end(i); ++e) impulsePerPair[e] = (c * ctx.boundary.masses[bn.indices[e]]) * bn.gradW[e];
+  }
 }
 
 }  // namespace consph

@@ -11,6 +11,7 @@ class WCSPH final : public PressureSolver {
  public:
   explicit WCSPH(const Params& params);
   void solve(StepContext& ctx) override;
+  void boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const override;
   static std::vector<ParamSpec> parameters();
 
  private:

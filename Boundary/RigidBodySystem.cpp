@@ -1,0 +1,203 @@
+#include "Boundary/RigidBodySystem.h"
+
+#include <omp.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "Boundary/MassProperties.h"
+#include "Utilities/Error.h"
+#include "Utilities/VtkWriter.h"
+
+namespace consph {
+
+RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, const BoundarySamples& samples,
+                                 const LogSink& log) {
+  bodyOfObject_.assign(objects.size(), kNone);
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    const BoundaryObject& obj = objects[o];
+    if (obj.motion == BodyMotion::Static) continue;
+    RigidBody b;
+    b.name = obj.name.empty() ? obj.path : obj.name;
+    b.motion = obj.motion;
+    b.object = Index(o);
+    const MassProperties mp = computeMassProperties(obj.mesh);
+    if (obj.motion == BodyMotion::Dynamic) {
+      if (!(mp.volume > 0))
+        throw InputError(obj.path + ": a dynamic body needs a closed mesh with outward-facing triangles (its volume is " +
+                         std::to_string(mp.volume) + " m^3)");
+      b.mass = obj.density * mp.volume;
+      b.inertiaBody = obj.density * mp.inertiaPerDensity;
+      b.invInertiaBody = b.inertiaBody.inverse();
+      b.x = mp.centerOfMass;
+      ++dynamicCount_;
+    } else {
+      // Animated: rotates about its centre of volume, or about its vertices' centroid when open.
+      Vector3r c = Vector3r::Zero();
+      for (auto& v : obj.mesh.vertices) c += v;
+      b.x = mp.volume > 0 ? mp.centerOfMass : Vector3r(c / Real(std::max<std::size_t>(obj.mesh.vertices.size(), 1)));
+    }
+    b.v = obj.velocity;
+    b.w = obj.angularVelocity;
+    b.localMesh = obj.mesh;
+    for (auto& v : b.localMesh.vertices) v -= b.x;
+    bodyOfObject_[o] = Index(bodies_.size());
+    bodies_.push_back(std::move(b));
+    if (log && obj.motion == BodyMotion::Dynamic) {
+      const RigidBody& nb = bodies_.back();
+      std::ostringstream s;
+      s << obj.path << ": dynamic body '" << nb.name << "', volume " << mp.volume << " m^3, mass " << nb.mass
+        << " kg, centre of mass (" << nb.x[0] << ", " << nb.x[1] << ", " << nb.x[2] << ")";
+      log(LogLevel::Info, s.str());
+    }
+  }
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const Index b = bodyOfObject_[samples.bodies[k]];
+    if (b == kNone) continue;
+    bodies_[b].samples.push_back(Index(k));
+    bodies_[b].localSamples.push_back(samples.positions[k] - bodies_[b].x);
+  }
+  hingeOfBody_.assign(bodies_.size(), kNone);
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    if (!objects[o].hinge.enabled) continue;
+    hingeOfBody_[bodyOfObject_[o]] = Index(hinges_.size());
+    hinges_.push_back({bodyOfObject_[o], objects[o].hinge});
+    // A hinged body starts rotating about its axle only.
+    RigidBody& b = bodies_[bodyOfObject_[o]];
+    const Vector3r a = objects[o].hinge.axis;
+    b.w = b.w.dot(a) * a;
+    b.v = b.w.cross(b.x - objects[o].hinge.point);
+  }
+  impulse_.assign(bodies_.size(), Vector3r::Zero());
+  angularImpulse_.assign(bodies_.size(), Vector3r::Zero());
+}
+
+void RigidBodySystem::gatherFluidImpulses(const NeighborLists& lists, const BoundarySamples& samples,
+                                          const std::vector<Vector3r>& pairImpulses) {
+  const std::size_t nb = bodies_.size(), n = lists.queryCount();
+  const int threads = omp_get_max_threads();
+  perThread_.assign(std::size_t(threads) * nb * 2, Vector3r::Zero());
+#pragma omp parallel
+  {
+    Vector3r* acc = perThread_.data() + std::size_t(omp_get_thread_num()) * nb * 2;
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i)
+      for (Index e = lists.begin(i); e < lists.end(i); ++e) {
+        const Index k = lists.indices[e];
+        const Index b = bodyOfObject_[samples.bodies[k]];
+        if (b == kNone) continue;
+        const Vector3r& J = pairImpulses[e];
+        acc[2 * b] += J;
+        acc[2 * b + 1] += (samples.positions[k] - bodies_[b].x).cross(J);  // the force acts at x_k
+      }
+  }
+  for (int t = 0; t < threads; ++t)
+    for (std::size_t b = 0; b < nb; ++b) {
+      impulse_[b] += perThread_[(std::size_t(t) * nb + b) * 2];
+      angularImpulse_[b] += perThread_[(std::size_t(t) * nb + b) * 2 + 1];
+    }
+}
+
+void RigidBodySystem::advance(Real dt, const Vector3r& gravity) {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    RigidBody& b = bodies_[i];
+    b.fluidForce = impulse_[i] / dt;
+    b.fluidTorque = angularImpulse_[i] / dt;
+    if (b.motion == BodyMotion::Dynamic) {
+      const Vector3r J = impulse_[i] + dt * b.mass * gravity;
+      if (hingeOfBody_[i] != kNone) advanceHinged(b, hinges_[hingeOfBody_[i]].description, J, angularImpulse_[i], dt);
+      else {
+        b.applyImpulses(J, angularImpulse_[i], dt);
+        b.advance(dt);
+      }
+    } else {
+      b.advance(dt);  // animated: constant prescribed velocities
+    }
+    impulse_[i].setZero();
+    angularImpulse_[i].setZero();
+  }
+}
+
+void RigidBodySystem::advanceHinged(RigidBody& b, const HingeDescription& h, const Vector3r& J, const Vector3r& L,
+                                    Real dt) {
+  // Rotation about a fixed axis a through p: the joint's reaction acts at p and has no torque
+  // about a, so a . (angular momentum about p) changes by a . (L + (x - p) x J), and that
+  // momentum is I_a omega with I_a = a^T I a + m |r_perp|^2 (parallel axis).
+  const Vector3r& a = h.axis;
+  const Vector3r r = b.x - h.point;
+  const Vector3r rPerp = r - r.dot(a) * a;
+  const Matrix3r R = b.rotation();
+  const Real Ia = a.dot(R * b.inertiaBody * R.transpose() * a) + b.mass * rPerp.squaredNorm();
+  Real omega = b.w.dot(a) + a.dot(L + r.cross(J)) / Ia;
+  if (h.motor) {
+    // Velocity motor: the impulse that reaches the target speed, within maxTorque dt.
+    const Real maxImpulse = h.maxTorque * dt;
+    omega += std::clamp(Ia * (h.targetVelocity - omega), -maxImpulse, maxImpulse) / Ia;
+  }
+  b.rotateAbout(h.point, a, omega * dt);
+  b.w = omega * a;
+  b.v = b.w.cross(b.x - h.point);
+}
+
+void RigidBodySystem::updateSamples(BoundarySamples& samples) const {
+  for (const RigidBody& b : bodies_) {
+    const Matrix3r R = b.rotation();
+    const std::ptrdiff_t n = std::ptrdiff_t(b.samples.size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t s = 0; s < n; ++s) {
+      const Index k = b.samples[s];
+      samples.positions[k] = b.x + R * b.localSamples[s];
+      samples.velocities[k] = b.velocityAt(samples.positions[k]);
+    }
+  }
+}
+
+Vector3r RigidBodySystem::momentum() const {
+  Vector3r p = Vector3r::Zero();
+  for (const RigidBody& b : bodies_)
+    if (b.motion == BodyMotion::Dynamic) p += b.mass * b.v;
+  return p;
+}
+
+std::string RigidBodySystem::csvHeader() {
+  return "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,fx,fy,fz,tx,ty,tz\n";
+}
+
+std::string RigidBodySystem::csvRows(Real time) const {
+  std::ostringstream s;
+  s.precision(9);
+  for (const RigidBody& b : bodies_) {
+    s << time << "," << b.name;
+    for (const Vector3r* v : {&b.x}) s << "," << (*v)[0] << "," << (*v)[1] << "," << (*v)[2];
+    s << "," << b.q.w() << "," << b.q.x() << "," << b.q.y() << "," << b.q.z();
+    for (const Vector3r* v : {&b.v, &b.w, &b.fluidForce, &b.fluidTorque}) s << "," << (*v)[0] << "," << (*v)[1] << "," << (*v)[2];
+    s << "\n";
+  }
+  return s.str();
+}
+
+std::string RigidBodySystem::meshesToVtu() const {
+  TriangleMesh all;
+  std::vector<Index> body;
+  std::vector<Vector3r> velocity;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const RigidBody& b = bodies_[i];
+    const Matrix3r R = b.rotation();
+    const Index base = Index(all.vertices.size());
+    for (auto& v : b.localMesh.vertices) {
+      all.vertices.push_back(b.x + R * v);
+      body.push_back(b.object);
+      velocity.push_back(b.velocityAt(all.vertices.back()));
+    }
+    for (auto& t : b.localMesh.triangles) all.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  VtuPointCloud cloud(all.vertices.data(), all.vertices.size());
+  cloud.setTriangles(all.triangles.data(), all.triangles.size());
+  cloud.add("body", body.data());
+  cloud.add("velocity", reinterpret_cast<const Real*>(velocity.data()), 3);
+  return cloud.serialize();
+}
+
+}  // namespace consph

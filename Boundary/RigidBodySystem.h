@@ -1,0 +1,67 @@
+// The scene's moving boundary objects: dynamic rigid bodies (two-way coupled with the fluid,
+// paper Section 3.5, Eq. (35)), animated (kinematic) bodies and hinges. It gathers the pressure
+// impulses the solver reports per fluid-boundary pair into force and torque per body (per-thread
+// accumulators, no atomics), integrates the bodies and moves their boundary samples, which carry
+// the body's velocity into the next pressure solve.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "Boundary/RigidBody.h"
+#include "Simulation/BoundarySamples.h"
+#include "Simulation/NeighborSearch.h"
+#include "Utilities/Log.h"
+
+namespace consph {
+
+// Revolute joint of one dynamic body about a fixed world axis (reduced coordinates: the body
+// keeps exactly one rotational degree of freedom, so the axle point stays fixed to round-off).
+struct Hinge {
+  Index body = 0;
+  HingeDescription description;
+};
+
+class RigidBodySystem {
+ public:
+  // Builds a body for every non-static object; `samples` are the boundary model's samples of
+  // all objects (sample k belongs to object samples.bodies[k]).
+  RigidBodySystem(const std::vector<BoundaryObject>& objects, const BoundarySamples& samples, const LogSink& log);
+
+  bool empty() const { return bodies_.empty(); }
+  bool hasDynamic() const { return dynamicCount_ > 0; }
+  const std::vector<RigidBody>& bodies() const { return bodies_; }
+  std::vector<RigidBody>& bodies() { return bodies_; }
+
+  // Sums the impulse the fluid gave each sample of a moving body (pairImpulses[e] for the pair
+  // e = (i, k) of `lists`) into impulse and angular impulse per body.
+  void gatherFluidImpulses(const NeighborLists& lists, const BoundarySamples& samples,
+                           const std::vector<Vector3r>& pairImpulses);
+  // One step: dynamic bodies take the gathered impulses and gravity (hinged ones about their
+  // axle, with the motor), animated ones follow their prescribed velocity. Clears the impulses.
+  void advance(Real dt, const Vector3r& gravity);
+  // Positions and velocities of the moving bodies' samples from the bodies' state.
+  void updateSamples(BoundarySamples& samples) const;
+
+  // Linear momentum of the dynamic bodies, kg m/s.
+  Vector3r momentum() const;
+
+  // Output: one CSV row per body (header first), and the bodies' surfaces as one .vtu.
+  static std::string csvHeader();
+  std::string csvRows(Real time) const;
+  std::string meshesToVtu() const;
+
+ private:
+  void advanceHinged(RigidBody& b, const HingeDescription& h, const Vector3r& J, const Vector3r& L, Real dt);
+
+  std::vector<RigidBody> bodies_;
+  std::vector<Index> hingeOfBody_;   // index into hinges_, or kNone
+  std::vector<Hinge> hinges_;
+  std::vector<Index> bodyOfObject_;  // object index -> body index, or kNone
+  std::size_t dynamicCount_ = 0;
+  // Per-thread accumulators (threads x bodies x {impulse, angular impulse}), then their sum.
+  std::vector<Vector3r> perThread_;
+  std::vector<Vector3r> impulse_, angularImpulse_;
+  static constexpr Index kNone = ~Index(0);
+};
+
+}  // namespace consph

@@ -1,0 +1,56 @@
+#include "Simulation/Emitter.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+namespace consph {
+
+Emitter::Emitter(const EmitterDescription& d, Real particleRadius, Real stopAt) : d_(d), spacing_(2 * particleRadius) {
+  // Nozzle axes: e1 horizontal for a horizontal jet (direction x y), e2 = direction x e1.
+  const Vector3r dir = d_.direction;
+  Vector3r e1 = dir.cross(Vector3r::UnitY());
+  if (e1.norm() < Real(0.1)) e1 = dir.cross(Vector3r::UnitZ());
+  e1.normalize();
+  const Vector3r e2 = dir.cross(e1).normalized();
+  // A centred lattice: n points along an extent L, spaced 2r, symmetric about the centre.
+  auto count = [&](Real extent) { return std::max(1, int(std::floor(extent / spacing_ + Real(1e-6)))); };
+  const int n1 = count(d_.circle ? 2 * d_.radius : d_.width), n2 = count(d_.circle ? 2 * d_.radius : d_.height);
+  for (int a = 0; a < n1; ++a)
+    for (int b = 0; b < n2; ++b) {
+      const Real u = (a - Real(n1 - 1) / 2) * spacing_, v = (b - Real(n2 - 1) / 2) * spacing_;
+      // A particle belongs to the circle when its cell's centre is inside it.
+      if (d_.circle && u * u + v * v > d_.radius * d_.radius) continue;
+      layerPoints_.push_back(d_.position + u * e1 + v * e2);
+    }
+  const Real active = std::max(Real(0), std::min(d_.end, stopAt) - d_.start);
+  maxLayers_ = std::size_t(std::floor(active * d_.speed / spacing_ + Real(1e-6))) + 1;
+  pending_ = spacing_;  // the first layer leaves at `start`
+}
+
+std::size_t Emitter::emit(FluidModel& fluid, Real time, Real dt, Index& nextId) {
+  if (time + dt <= d_.start || time >= d_.end) return 0;
+  const Real t0 = std::max(time, d_.start), t1 = std::min(time + dt, d_.end);
+  pending_ += d_.speed * (t1 - t0);
+  const Real mass = fluid.density0() * spacing_ * spacing_ * spacing_;
+  const Vector3r velocity = d_.speed * d_.direction;
+  std::size_t emitted = 0;
+  // Small tolerance: steps that add up to exactly one spacing must emit their layer.
+  while (pending_ >= spacing_ * (1 - Real(1e-6)) && layersEmitted_ < maxLayers_) {
+    pending_ -= spacing_;
+    // The layer left the nozzle `pending_` ago in distance: place it that far downstream.
+    const Vector3r offset = std::max(pending_, Real(0)) * d_.direction;
+    const std::size_t base = fluid.size();
+    fluid.resize(base + layerPoints_.size());
+    for (std::size_t p = 0; p < layerPoints_.size(); ++p) {
+      fluid.positions[base + p] = layerPoints_[p] + offset;
+      fluid.velocities[base + p] = velocity;
+      fluid.masses[base + p] = mass;
+      fluid.ids[base + p] = nextId++;
+    }
+    emitted += layerPoints_.size();
+    ++layersEmitted_;
+  }
+  return emitted;
+}
+
+}  // namespace consph

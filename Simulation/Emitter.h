@@ -1,0 +1,42 @@
+// A nozzle that emits fluid particles at a given velocity between a start and an end time: a
+// rectangle or a circle filled with a square lattice of spacing 2r, perpendicular to the
+// emission direction; a new layer leaves the nozzle every 2r / speed seconds. Its whole budget
+// is known up front, so the fluid reserves it once and data pointers never move.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "Simulation/FluidModel.h"
+
+namespace consph {
+
+struct EmitterDescription {
+  std::string path;  // JSON path, for messages
+  bool circle = false;
+  Vector3r position = Vector3r::Zero();     // centre of the nozzle, m
+  Vector3r direction = -Vector3r::UnitY();  // unit emission direction
+  Real width = 0, height = 0;               // rectangle, m
+  Real radius = 0;                          // circle, m
+  Real speed = 1;                           // m/s
+  Real start = 0, end = 0;                  // s
+};
+
+class Emitter {
+ public:
+  Emitter(const EmitterDescription& description, Real particleRadius, Real stopAt);
+  // Particles this emitter can emit until min(end, stopAt): its budget.
+  std::size_t capacity() const { return layerPoints_.size() * maxLayers_; }
+  std::size_t particlesPerLayer() const { return layerPoints_.size(); }
+  // Emits the layers due in [time, time + dt): appends particles with ids from nextId on.
+  // Returns how many it emitted.
+  std::size_t emit(FluidModel& fluid, Real time, Real dt, Index& nextId);
+
+ private:
+  EmitterDescription d_;
+  Real spacing_;
+  std::vector<Vector3r> layerPoints_;  // world positions of one layer at the nozzle
+  std::size_t maxLayers_ = 0, layersEmitted_ = 0;
+  Real pending_;  // length of fluid that has left the nozzle but is not emitted yet, m
+};
+
+}  // namespace consph
