@@ -5,14 +5,14 @@
 
 namespace consph {
 
-Emitter::Emitter(const EmitterDescription& d, Real particleRadius, Real stopAt) : d_(d), spacing_(2 * particleRadius) {
+Emitter::Emitter(const EmitterDescription& d, Real spacing, Real stopAt) : d_(d), spacing_(spacing) {
   // Nozzle axes: e1 horizontal for a horizontal jet (direction x y), e2 = direction x e1.
   const Vector3r dir = d_.direction;
   Vector3r e1 = dir.cross(Vector3r::UnitY());
   if (e1.norm() < Real(0.1)) e1 = dir.cross(Vector3r::UnitZ());
   e1.normalize();
   const Vector3r e2 = dir.cross(e1).normalized();
-  // A centred lattice: n points along an extent L, spaced 2r, symmetric about the centre.
+  // A centred lattice: n points along an extent L, spaced like the fluid blocks, symmetric about the centre.
   auto count = [&](Real extent) { return std::max(1, int(std::floor(extent / spacing_ + Real(1e-6)))); };
   const int n1 = count(d_.circle ? 2 * d_.radius : d_.width), n2 = count(d_.circle ? 2 * d_.radius : d_.height);
   for (int a = 0; a < n1; ++a)

@@ -23,7 +23,8 @@ struct EmitterDescription {
 
 class Emitter {
  public:
-  Emitter(const EmitterDescription& description, Real particleRadius, Real stopAt);
+  // `spacing`: the fluid's lattice spacing (simulation.particleSpacing times r).
+  Emitter(const EmitterDescription& description, Real spacing, Real stopAt);
   // Particles this emitter can emit until min(end, stopAt): its budget.
   std::size_t capacity() const { return layerPoints_.size() * maxLayers_; }
   std::size_t particlesPerLayer() const { return layerPoints_.size(); }

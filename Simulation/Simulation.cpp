@@ -16,7 +16,7 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
     : scene_(std::move(scene)), plugins_(plugins), log_(std::move(log)), kernel_(4 * scene_.particleRadius) {
   const FluidDescription& fd = scene_.fluids.at(0);
   fluid_ = std::make_unique<FluidModel>(fd.name, fd.density0);
-  for (const EmitterDescription& e : fd.emitters) emitters_.emplace_back(e, scene_.particleRadius, scene_.stopAt);
+  for (const EmitterDescription& e : fd.emitters) emitters_.emplace_back(e, scene_.particleSpacing * scene_.particleRadius, scene_.stopAt);
   initializeFluid();
   dropParticlesInsideBodies();
 

@@ -220,8 +220,8 @@ TEST(RigidBodies, HingedPendulumPeriodAndMotor) {
 // removeOutside removes every particle that leaves its box; data pointers never move.
 TEST(RigidBodies, EmitterCountAndRemoval) {
   auto sim = makeSimulation(R"({
-    "simulation": {"particleRadius": 0.025, "gravity": [0, 0, 0], "maxTimeStep": 0.001, "minTimeStep": 0.001,
-                   "initialTimeStep": 0.001, "stopAt": 2.0},
+    "simulation": {"particleRadius": 0.025, "particleSpacing": 2.0, "gravity": [0, 0, 0], "maxTimeStep": 0.001,
+                   "minTimeStep": 0.001, "initialTimeStep": 0.001, "stopAt": 2.0},
     "fluids": [{"emitters": [
                   {"shape": "rectangle", "position": [0, 0, 0], "direction": [1, 0, 0], "width": 0.2, "height": 0.1,
                    "speed": 1.0, "start": 0.1, "end": 0.425},

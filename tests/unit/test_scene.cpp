@@ -40,7 +40,9 @@ TEST(Scene, MinimalSceneBuilds) {
   auto sim = test::simulationFromJson(minimalScene());
   EXPECT_EQ(sim->fluid().size(), 4u * 4u * 4u);
   EXPECT_GT(sim->boundary().size(), 0u);
-  EXPECT_NEAR(sim->fluid().masses[0], 1000 * 0.1 * 0.1 * 0.1, 1e-9);
+  const double spacing = sim->scene().particleSpacing * 0.05;  // default 0.8^(1/3) 2r
+  EXPECT_NEAR(spacing * spacing * spacing, 0.8 * 0.1 * 0.1 * 0.1, 1e-7);
+  EXPECT_NEAR(sim->fluid().masses[0], 1000 * spacing * spacing * spacing, 1e-9);
 }
 
 TEST(Scene, MalformedJsonReportsLineAndColumn) {
