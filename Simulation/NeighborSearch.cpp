@@ -33,27 +33,34 @@ void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
 void buildNeighborLists(const PointGrid& grid, const Vector3r* targets, const Vector3r* queries, std::size_t n,
                         const CubicSplineKernel& kernel, bool excludeSelf, NeighborLists& out) {
   const Real h = kernel.supportRadius();
-  out.offsets.assign(n + 1, 0);
+  out.offsets.resize(n + 1);
+  out.offsets[0] = 0;
   const int maxThreads = omp_get_max_threads();
-  std::vector<std::vector<Index>> buffers(maxThreads);
+  // Per-thread buffers live in `out`, so steady-state steps allocate nothing.
+  out.scratchIndices.resize(maxThreads);
+  out.scratchGradW.resize(maxThreads);
   std::vector<std::size_t> chunkBegin(maxThreads + 1, n);
 #pragma omp parallel
   {
     // Static chunks in thread order: concatenating the per-thread buffers gives the CSR array.
+    // One pass finds the neighbours and evaluates grad W while x_j is in cache. The order
+    // within a list (cells in a fixed order, ascending index within a cell) is deterministic.
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     const std::size_t b = n * t / nt, e = n * (t + 1) / nt;
     chunkBegin[t] = b;
-    auto& buf = buffers[t];
-    buf.reserve((e - b) * 48);
+    auto& idx = out.scratchIndices[t];
+    auto& grad = out.scratchGradW[t];
+    idx.clear();
+    grad.clear();
     for (std::size_t i = b; i < e; ++i) {
-      const Vector3r& xi = queries[i];
-      const std::size_t before = buf.size();
-      grid.forEachNeighbor(xi, h, [&](Index j, const Vector3r&) {
-        if (!(excludeSelf && j == i)) buf.push_back(j);
+      const Vector3r xi = queries[i];
+      const std::size_t before = idx.size();
+      grid.forEachNeighbor(xi, h, [&](Index j, const Vector3r& xj) {
+        if (excludeSelf && j == i) return;
+        idx.push_back(j);
+        grad.push_back(kernel.gradW(xi - xj));
       });
-      // Ascending neighbour order: reproducible sums, and memory-order access after Z-sorting.
-      std::sort(buf.begin() + before, buf.end());
-      out.offsets[i + 1] = Index(buf.size() - before);
+      out.offsets[i + 1] = Index(idx.size() - before);
     }
   }
   for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
@@ -61,13 +68,11 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* targets, const Ve
   out.gradW.resize(out.offsets[n]);
 #pragma omp parallel for schedule(static, 1)
   for (int t = 0; t < maxThreads; ++t) {
-    const auto& buf = buffers[t];
-    if (!buf.empty()) std::copy(buf.begin(), buf.end(), out.indices.begin() + out.offsets[chunkBegin[t]]);
+    const std::size_t at = out.offsets[chunkBegin[t]];
+    std::copy(out.scratchIndices[t].begin(), out.scratchIndices[t].end(), out.indices.begin() + at);
+    std::copy(out.scratchGradW[t].begin(), out.scratchGradW[t].end(), out.gradW.begin() + at);
   }
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i)
-    for (Index e = out.offsets[i]; e < out.offsets[i + 1]; ++e)
-      out.gradW[e] = kernel.gradW(queries[i] - targets[out.indices[e]]);
+  (void)targets;
 }
 
 namespace {

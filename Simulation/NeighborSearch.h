@@ -15,6 +15,9 @@ struct NeighborLists {
   std::vector<Index> offsets;    // (n + 1)
   std::vector<Index> indices;    // (number of pairs)
   std::vector<Vector3r> gradW;   // (number of pairs) grad W(x_i - x_j)
+  // Per-thread scratch of the build, kept so that steady-state steps allocate nothing.
+  std::vector<std::vector<Index>> scratchIndices;
+  std::vector<std::vector<Vector3r>> scratchGradW;
 
   std::size_t queryCount() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   Index begin(std::size_t i) const { return offsets[i]; }

@@ -21,15 +21,19 @@ std::vector<Vector3r> randomPoints(std::size_t n, unsigned seed, Real extent) {
 void expectBruteForce(const std::vector<Vector3r>& targets, const std::vector<Vector3r>& queries, const NeighborLists& lists,
                       const CubicSplineKernel& kernel, bool excludeSelf) {
   const Real h2 = kernel.supportRadius() * kernel.supportRadius();
+  // Cached gradients equal a fresh evaluation up to round-off (FMA contraction may differ).
+  const Real gradScale = kernel.W0() / kernel.supportRadius();
+  const Real tol = (sizeof(Real) == 8 ? Real(1e-12) : Real(1e-5)) * gradScale;
   ASSERT_EQ(lists.queryCount(), queries.size());
   for (std::size_t i = 0; i < queries.size(); ++i) {
     std::vector<Index> expected;
     for (std::size_t j = 0; j < targets.size(); ++j)
       if ((queries[i] - targets[j]).squaredNorm() <= h2 && !(excludeSelf && i == j)) expected.push_back(Index(j));
     std::vector<Index> got(lists.indices.begin() + lists.begin(i), lists.indices.begin() + lists.end(i));
-    ASSERT_EQ(got, expected) << "query " << i;  // sorted ascending, no duplicates
+    std::sort(got.begin(), got.end());
+    ASSERT_EQ(got, expected) << "query " << i;  // same set, no duplicates
     for (Index e = lists.begin(i); e < lists.end(i); ++e)
-      EXPECT_LT((lists.gradW[e] - kernel.gradW(queries[i] - targets[lists.indices[e]])).norm(), 1e-12);
+      EXPECT_LT((lists.gradW[e] - kernel.gradW(queries[i] - targets[lists.indices[e]])).norm(), tol);
   }
 }
 }  // namespace
@@ -103,7 +107,8 @@ TEST(NeighborSearch, TransposeReversesEveryPair) {
     for (Index e = reversed.begin(k); e < reversed.end(k); ++e) {
       const Index i = reversed.indices[e];
       EXPECT_LE((targets[k] - queries[i]).norm(), kernel.supportRadius());
-      EXPECT_LT((reversed.gradW[e] - kernel.gradW(targets[k] - queries[i])).norm(), 1e-12);
+      EXPECT_LT((reversed.gradW[e] - kernel.gradW(targets[k] - queries[i])).norm(),
+                (sizeof(Real) == 8 ? 1e-12 : 1e-5) * kernel.W0() / kernel.supportRadius());
     }
 }
 
