@@ -21,18 +21,23 @@ std::vector<ParamSpec> SurfaceTension_Akinci2013::parameters() {
           {"boundaryAdhesion", ParamType::Real, 0.0, "adhesion coefficient beta towards boundaries (units as gamma's cohesion term)", 0, 1e6}};
 }
 
-Real SurfaceTension_Akinci2013::cohesionKernel(Real r, Real h) {
+SurfaceTension_Akinci2013::Kernels::Kernels(Real h_)
+    : h(h_),
+      cohesionScale(Real(32) / (std::numbers::pi_v<Real> * std::pow(h_, Real(9)))),
+      cohesionOffset(std::pow(h_, Real(6)) / 64),
+      adhesionScale(Real(0.007) / std::pow(h_, Real(3.25))) {}
+
+Real SurfaceTension_Akinci2013::Kernels::cohesion(Real r) const {
   // Eq. (2): 32 / (pi h^9) {(h - r)^3 r^3 for h/2 < r <= h; 2 (h - r)^3 r^3 - h^6 / 64 for 0 < r <= h/2}.
   if (r > h || r <= 0) return 0;
-  const Real c = Real(32) / (std::numbers::pi_v<Real> * std::pow(h, Real(9)));
   const Real t = (h - r) * (h - r) * (h - r) * r * r * r;
-  return 2 * r > h ? c * t : c * (2 * t - std::pow(h, Real(6)) / 64);
+  return 2 * r > h ? cohesionScale * t : cohesionScale * (2 * t - cohesionOffset);
 }
 
-Real SurfaceTension_Akinci2013::adhesionKernel(Real r, Real h) {
+Real SurfaceTension_Akinci2013::Kernels::adhesion(Real r) const {
   // Eq. (7): 0.007 / h^3.25 (-4 r^2 / h + 6 r - 2 h)^(1/4) for h/2 < r <= h.
   if (r > h || 2 * r <= h) return 0;
-  return Real(0.007) / std::pow(h, Real(3.25)) * std::pow(-4 * r * r / h + 6 * r - 2 * h, Real(0.25));
+  return adhesionScale * std::sqrt(std::sqrt(-4 * r * r / h + 6 * r - 2 * h));
 }
 
 SurfaceTension_Akinci2013::SurfaceTension_Akinci2013(const Params& p, FluidModel& fluid)
@@ -47,6 +52,7 @@ void SurfaceTension_Akinci2013::addAccelerations(StepContext& ctx) {
   const auto& bn = ctx.boundaryNeighbors;
   const std::ptrdiff_t n = std::ptrdiff_t(f.size());
   const Real h = ctx.kernel.supportRadius(), rho0 = f.density0();
+  const Kernels kernels(h);
   // Eq. (5): surface normals (zero inside the fluid, length ~1 at the surface).
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
@@ -68,7 +74,7 @@ void SurfaceTension_Akinci2013::addAccelerations(StepContext& ctx) {
       const Vector3r xij = xi - f.positions[j];
       const Real r = xij.norm();
       Vector3r aij = -gamma_ * (ni - normals_[j]);  // curvature, Eq. (4)
-      if (r > 0) aij -= (gamma_ * f.masses[j] * cohesionKernel(r, h) / r) * xij;  // cohesion, Eq. (1)
+      if (r > 0) aij -= (gamma_ * f.masses[j] * kernels.cohesion(r) / r) * xij;  // cohesion, Eq. (1)
       a += (2 * rho0 / (rhoi + f.densities[j])) * aij;  // K_ij, Eq. (3)
     }
     if (adhesion)
@@ -76,7 +82,7 @@ void SurfaceTension_Akinci2013::addAccelerations(StepContext& ctx) {
         const Index k = bn.indices[e];
         const Vector3r xik = xi - b.positions[k];
         const Real r = xik.norm();
-        if (r > 0) a -= (beta_ * b.masses[k] * adhesionKernel(r, h) / r) * xik;  // Eq. (6)
+        if (r > 0) a -= (beta_ * b.masses[k] * kernels.adhesion(r) / r) * xik;  // Eq. (6)
       }
     f.accelerations[i] += a;
   }

@@ -25,9 +25,13 @@ class SurfaceTension_Akinci2013 final : public NonPressureForce {
   void addAccelerations(StepContext& ctx) override;
   static std::vector<ParamSpec> parameters();
 
-  // The paper's kernels with support h (Eqs. 2 and 7).
-  static Real cohesionKernel(Real r, Real h);
-  static Real adhesionKernel(Real r, Real h);
+  // The paper's kernels with support h (Eqs. 2 and 7), constants precomputed once per step.
+  struct Kernels {
+    explicit Kernels(Real h);
+    Real cohesion(Real r) const;
+    Real adhesion(Real r) const;
+    Real h, cohesionScale, cohesionOffset, adhesionScale;
+  };
 
  private:
   Real gamma_, beta_;
