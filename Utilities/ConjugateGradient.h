@@ -1,8 +1,8 @@
 // Matrix-free preconditioned conjugate gradient for a symmetric positive definite system whose
 // unknowns are one Vector3r per particle (e.g. implicit viscosity). The matrix and the
 // preconditioner are callables that write A x (resp. P^-1 r) into their output in one parallel
-// particle loop, so no matrix is ever stored. Stops when |b - A x| <= tolerance |b| (Eigen's
-// criterion) or after maxIterations.
+// particle loop, so no matrix is ever stored. Stops when |b - A x| <= tolerance (an absolute
+// residual norm the caller chooses) or after maxIterations.
 #pragma once
 #include <cmath>
 #include <vector>
@@ -13,7 +13,7 @@ namespace consph {
 
 struct ConjugateGradientResult {
   int iterations = 0;
-  Real relativeResidual = 0;  // |b - A x| / |b| at exit
+  Real residual = 0;  // |b - A x| at exit
   bool converged = false;
 };
 
@@ -43,19 +43,13 @@ ConjugateGradientResult solveConjugateGradient(ApplyA&& applyA, ApplyP&& applyPr
   ws.p.resize(b.size());
   ws.ap.resize(b.size());
   ConjugateGradientResult result;
-  const Real bNorm2 = dot(b, b);
-  if (bNorm2 == Real(0)) {  // A x = 0 has the solution x = 0
-    std::fill(x.begin(), x.end(), Vector3r::Zero());
-    result.converged = true;
-    return result;
-  }
-  const Real threshold2 = tolerance * tolerance * bNorm2;
+  const Real threshold2 = tolerance * tolerance;
   applyA(x, ws.ap);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) ws.r[i] = b[i] - ws.ap[i];
   Real r2 = dot(ws.r, ws.r);
   if (r2 <= threshold2) {
-    result.relativeResidual = std::sqrt(r2 / bNorm2);
+    result.residual = std::sqrt(r2);
     result.converged = true;
     return result;
   }
@@ -80,7 +74,7 @@ ConjugateGradientResult solveConjugateGradient(ApplyA&& applyA, ApplyP&& applyPr
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < n; ++i) ws.p[i] = ws.z[i] + beta * ws.p[i];
   }
-  result.relativeResidual = std::sqrt(r2 / bNorm2);
+  result.residual = std::sqrt(r2);
   result.converged = r2 <= threshold2;
   return result;
 }

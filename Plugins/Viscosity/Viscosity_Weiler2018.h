@@ -12,7 +12,8 @@
 // previous step's dt (the initial time step in step 0); SPlisHSPlasH does the same.
 //
 // Parameters: `viscosity` nu and `boundaryViscosity` nu_b, kinematic viscosities in m^2/s;
-// `maxError`, the relative residual |b - A v'| / |b| at which CG stops; `maxIterations`.
+// `maxError`: CG stops when |b - A v'| < maxError |b - A v|, i.e. relative to the viscous change
+// (not to |b| as Eigen's default, which accepts an unchanged warm start); `maxIterations`.
 #pragma once
 #include "Simulation/NonPressureForce.h"
 #include "Simulation/Params.h"
