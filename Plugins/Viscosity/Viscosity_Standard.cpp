@@ -1,12 +1,13 @@
 #include "Plugins/Viscosity/Viscosity_Standard.h"
 
+#include "Plugins/Viscosity/ViscosityLaplacian.h"
 #include "Simulation/PluginRegistry.h"
 
 namespace consph {
 
 namespace {
 const PluginRegistration<NonPressureForce> registration{
-    "StandardViscosity", "SPH-Laplacian viscosity (Morris 1997 / Monaghan 2005), kinematic viscosity in m^2/s",
+    "StandardViscosity", "explicit SPH-Laplacian viscosity (Morris et al. 1997), kinematic viscosity in m^2/s",
     Viscosity_Standard::parameters(), [](const Params& p, const PluginContext&) -> std::unique_ptr<NonPressureForce> {
       return std::make_unique<Viscosity_Standard>(p);
     }};
@@ -14,39 +15,25 @@ const PluginRegistration<NonPressureForce> registration{
 
 std::vector<ParamSpec> Viscosity_Standard::parameters() {
   return {{"viscosity", ParamType::Real, 0.01, "kinematic viscosity nu of the fluid, m^2/s", 0, 1e6},
-          {"boundaryViscosity", ParamType::Real, 0.0, "kinematic viscosity towards boundaries, m^2/s", 0, 1e6}};
+          {"boundaryViscosity", ParamType::Real, 0.0, "kinematic viscosity towards boundaries, m^2/s (0: free slip)", 0, 1e6}};
 }
 
 Viscosity_Standard::Viscosity_Standard(const Params& p)
     : viscosity_(p.real("viscosity")), boundaryViscosity_(p.real("boundaryViscosity")) {}
 
 void Viscosity_Standard::addAccelerations(StepContext& ctx) {
+  using namespace viscosity;
   FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
-  const auto& fn = ctx.fluidNeighbors;
-  const auto& bn = ctx.boundaryNeighbors;
-  const Real h = ctx.kernel.supportRadius(), eps = Real(0.01) * h * h, d = 10;  // 2 (dim + 2)
-  const Real rho0 = f.density0();
+  const Real eps = regularisation(ctx.kernel), rho0 = f.density0();
   const bool boundary = boundaryViscosity_ > 0;
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
-    const Vector3r xi = f.positions[i], vi = f.velocities[i];
-    Vector3r a = Vector3r::Zero();
-    for (Index e = fn.begin(i); e < fn.end(i); ++e) {
-      const Index j = fn.indices[e];
-      const Vector3r xij = xi - f.positions[j];
-      a += (f.masses[j] / f.densities[j]) * (vi - f.velocities[j]).dot(xij) / (xij.squaredNorm() + eps) * fn.gradW[e];
-    }
-    a *= d * viscosity_;
-    if (boundary) {
-      Vector3r ab = Vector3r::Zero();
-      for (Index e = bn.begin(i); e < bn.end(i); ++e) {
-        const Index k = bn.indices[e];
-        const Vector3r xik = xi - b.positions[k];
-        ab += (b.masses[k] / rho0) * (vi - b.velocities[k]).dot(xik) / (xik.squaredNorm() + eps) * bn.gradW[e];
-      }
-      a += d * boundaryViscosity_ * ab;
-    }
+    const Real rhoi = f.densities[i];
+    // ViscosityLaplacian.h: fluid and boundary terms.
+    Vector3r a = (kLaplacianFactor * viscosity_ * rho0 / rhoi) * fluidSum(f, ctx.fluidNeighbors, i, f.velocities.data(), eps);
+    if (boundary)
+      a += (kLaplacianFactor * boundaryViscosity_ / rhoi) *
+           boundarySum(ctx.boundary, ctx.boundaryNeighbors, i, f.positions[i], f.velocities[i], eps, true);
     f.accelerations[i] += a;
   }
 }

@@ -1,8 +1,11 @@
-// Standard SPH viscosity (the Laplacian approximation used by SPlisHSPlasH's "Standard"
-// viscosity, after Monaghan 2005 / Morris et al. 1997):
-//   a_i = 2 (d + 2) nu sum_j (m_j / rho_j) (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) grad W_ij,
-// with an optional boundary term using the boundary samples' masses and velocities.
-// `viscosity` and `boundaryViscosity` are kinematic viscosities in m^2/s.
+// Standard SPH viscosity: the explicit velocity Laplacian of
+//   J. P. Morris, P. J. Fox, Y. Zhu: Modeling low Reynolds number incompressible flows using SPH.
+//   Journal of Computational Physics 136(1), 1997, 214-226
+// (SPlisHSPlasH's "Standard" viscosity, after Monaghan 2005), in the symmetric form of
+// ViscosityLaplacian.h, with an optional boundary viscosity towards the boundary samples:
+//   a_i += nu (laplacian v)_i.
+// Parameters: `viscosity` nu and `boundaryViscosity` nu_b, kinematic viscosities in m^2/s.
+// Explicit: stable for nu dt / h^2 small; use Weiler2018 for very viscous fluids.
 #pragma once
 #include "Simulation/NonPressureForce.h"
 #include "Simulation/Params.h"

@@ -1,0 +1,32 @@
+#include "Plugins/Drag/DragForce_Macklin2014.h"
+
+#include "Simulation/PluginRegistry.h"
+
+namespace consph {
+
+namespace {
+const PluginRegistration<NonPressureForce> registration{
+    "Macklin2014", "surface drag proportional to the missing density (Macklin et al. 2014)",
+    DragForce_Macklin2014::parameters(), [](const Params& p, const PluginContext&) -> std::unique_ptr<NonPressureForce> {
+      return std::make_unique<DragForce_Macklin2014>(p);
+    }};
+}  // namespace
+
+std::vector<ParamSpec> DragForce_Macklin2014::parameters() {
+  return {{"drag", ParamType::Real, 0.01, "drag coefficient c, kg/s (force per m/s of relative velocity)", 0, 1e6},
+          {"airVelocity", ParamType::Vector3, json::array({0, 0, 0}), "velocity of the surrounding air, m/s", -1e6, 1e6}};
+}
+
+DragForce_Macklin2014::DragForce_Macklin2014(const Params& p) : drag_(p.real("drag")), airVelocity_(p.vector3("airVelocity")) {}
+
+void DragForce_Macklin2014::addAccelerations(StepContext& ctx) {
+  FluidModel& f = ctx.fluid;
+  const Real invRho0 = Real(1) / f.density0();
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+    const Real missing = std::max(1 - f.densities[i] * invRho0, Real(0));
+    f.accelerations[i] -= (drag_ / f.masses[i] * missing) * (f.velocities[i] - airVelocity_);
+  }
+}
+
+}  // namespace consph

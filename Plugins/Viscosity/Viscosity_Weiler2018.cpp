@@ -1,0 +1,119 @@
+#include "Plugins/Viscosity/Viscosity_Weiler2018.h"
+
+#include <Eigen/LU>  // 3x3 inverse
+
+#include "Plugins/Viscosity/ViscosityLaplacian.h"
+#include "Simulation/PluginRegistry.h"
+
+namespace consph {
+
+namespace {
+const PluginRegistration<NonPressureForce> registration{
+    "Weiler2018", "implicit viscosity solved by matrix-free conjugate gradient (Weiler et al. 2018), kinematic viscosity in m^2/s",
+    Viscosity_Weiler2018::parameters(), [](const Params& p, const PluginContext& c) -> std::unique_ptr<NonPressureForce> {
+      return std::make_unique<Viscosity_Weiler2018>(p, *c.fluid);
+    }};
+}  // namespace
+
+std::vector<ParamSpec> Viscosity_Weiler2018::parameters() {
+  return {{"viscosity", ParamType::Real, 0.01, "kinematic viscosity nu of the fluid, m^2/s", 0, 1e6},
+          {"boundaryViscosity", ParamType::Real, 0.0, "kinematic viscosity towards boundaries, m^2/s (0: free slip)", 0, 1e6},
+          {"maxError", ParamType::Real, 0.01, "CG stops at residual below this fraction of the viscous change |b - A v| (dimensionless)", 1e-12, 1},
+          {"maxIterations", ParamType::Int, 100, "CG iteration cap per step", 1, 100000}};
+}
+
+Viscosity_Weiler2018::Viscosity_Weiler2018(const Params& p, FluidModel& fluid)
+    : viscosity_(p.real("viscosity")),
+      boundaryViscosity_(p.real("boundaryViscosity")),
+      maxError_(p.real("maxError")),
+      maxIterations_(p.integer("maxIterations")),
+      velocityChange_(fluid.fields().add<Vector3r>("viscosityVelocityChange", FieldSorted, Vector3r::Zero())) {}
+
+void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
+  using namespace viscosity;
+  FluidModel& f = ctx.fluid;
+  const BoundarySamples& b = ctx.boundary;
+  const auto& fn = ctx.fluidNeighbors;
+  const auto& bn = ctx.boundaryNeighbors;
+  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  const Real dt = ctx.dt;  // the previous step's dt: see the header
+  const Real eps = regularisation(ctx.kernel), rho0 = f.density0();
+  const Real cFluid = dt * kLaplacianFactor * viscosity_ * rho0, cBoundary = dt * kLaplacianFactor * boundaryViscosity_;
+  const bool boundary = boundaryViscosity_ > 0;
+  rhs_.resize(f.size());
+  solution_.resize(f.size());
+  inverseDiagonal_.resize(f.size());
+
+  // Right-hand side m_i (v_i - dt nu_b / rho_i sum_k m~_k K_ik v_k), warm start, and the 3x3
+  // diagonal blocks m_i (I - dt L_ii) of the preconditioner (K_ij u = (u . x_ij) grad W_ij / (..)).
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const Vector3r xi = f.positions[i], vi = f.velocities[i];
+    const Real rhoi = f.densities[i], mi = f.masses[i];
+    Vector3r bi = vi;
+    Matrix3r d = Matrix3r::Zero();
+    for (Index e = fn.begin(i); e < fn.end(i); ++e) {
+      const Index j = fn.indices[e];
+      const Vector3r xij = xi - f.positions[j];
+      d += (f.masses[j] / f.densities[j] / (xij.squaredNorm() + eps)) * (fn.gradW[e] * xij.transpose());
+    }
+    d *= cFluid / rhoi;
+    if (boundary) {
+      Matrix3r db = Matrix3r::Zero();
+      for (Index e = bn.begin(i); e < bn.end(i); ++e) {
+        const Index k = bn.indices[e];
+        const Vector3r xik = xi - b.positions[k];
+        db += (b.masses[k] / (xik.squaredNorm() + eps)) * (bn.gradW[e] * xik.transpose());
+        bi += (cBoundary / rhoi) * b.masses[k] * (b.velocities[k].dot(xik) / (xik.squaredNorm() + eps)) * bn.gradW[e];
+      }
+      d += (cBoundary / rhoi) * db;
+    }
+    rhs_[i] = mi * bi;
+    inverseDiagonal_[i] = (mi * (Matrix3r::Identity() - d)).inverse();
+    solution_[i] = vi + velocityChange_[i];
+  }
+
+  // A x = m_i (x_i - dt nu (rho0 / rho_i) sum_j (m_j / rho_j) K_ij x_ij - dt nu_b / rho_i sum_k m~_k K_ik x_i).
+  auto applyA = [&](const std::vector<Vector3r>& x, std::vector<Vector3r>& out) {
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const Real rhoi = f.densities[i];
+      Vector3r lx = (cFluid / rhoi) * fluidSum(f, fn, i, x.data(), eps);
+      if (boundary) lx += (cBoundary / rhoi) * boundarySum(b, bn, i, f.positions[i], x[i], eps, false);
+      out[i] = f.masses[i] * (x[i] - lx);
+    }
+  };
+  auto applyPreconditioner = [&](const std::vector<Vector3r>& r, std::vector<Vector3r>& out) {
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) out[i] = inverseDiagonal_[i] * r[i];
+  };
+  // Tolerance relative to the viscous change itself, |b - A v| (the residual of "no viscosity"):
+  // a tolerance relative to |b| ~ |m v| (Eigen's, SPlisHSPlasH's) accepts the warm start without
+  // a single iteration whenever nu dt |L v| < maxError |v|, i.e. almost always at nu = 0.01.
+  workspace_.ap.resize(f.size());
+  applyA(f.velocities, workspace_.ap);
+  Real change2 = 0;
+#pragma omp parallel for schedule(static) reduction(+ : change2)
+  for (std::ptrdiff_t i = 0; i < n; ++i) change2 += (rhs_[i] - workspace_.ap[i]).squaredNorm();
+  const Real tolerance = maxError_ * std::sqrt(change2);
+  if (change2 == Real(0)) {  // rest, rigid motion: v' = v exactly
+    solution_ = f.velocities;
+    last_ = ConjugateGradientResult{0, 0, true};
+  } else {
+    last_ = solveConjugateGradient(applyA, applyPreconditioner, rhs_, solution_, tolerance, maxIterations_, workspace_);
+  }
+  if (!last_.converged && ++capHits_ <= 5 && ctx.log)
+    ctx.log(LogLevel::Warning, "step " + std::to_string(ctx.step) + ": Weiler2018 viscosity hit its iteration cap (" +
+                                   std::to_string(maxIterations_) + ", residual " +
+                                   std::to_string(last_.residual / std::sqrt(change2)) + " of the viscous change)");
+
+  // a_i += (v'_i - v_i) / dt; keep v' - v for the next warm start.
+  const Real invDt = Real(1) / dt;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    velocityChange_[i] = solution_[i] - f.velocities[i];
+    f.accelerations[i] += invDt * velocityChange_[i];
+  }
+}
+
+}  // namespace consph
