@@ -23,7 +23,7 @@ std::unique_ptr<Simulation> fallingDroplets(const std::string& force, const std:
     blocks += (k ? ", " : "") + std::string("{\"min\": [") + std::to_string(x) + ", 0, 0], \"max\": [" +
               std::to_string(x + 2 * kRadius) + ", 0.05, 0.05], \"velocity\": [0, " + std::to_string(v0[k]) + ", 0]}";
   }
-  return simulationFromJson(R"({"simulation": {"particleRadius": 0.025, "gravity": [0, -9.81, 0]},
+  return simulationFromJson(R"({"simulation": {"particleRadius": 0.025, "particleSpacing": 2.0, "gravity": [0, -9.81, 0]},
       "fluids": [{"forces": [)" + force + R"(], "blocks": [)" + blocks + "]}]}");
 }
 

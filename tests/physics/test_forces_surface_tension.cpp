@@ -26,7 +26,7 @@ Real gyrationRatio(const FluidModel& f, Real r) {
 }
 
 std::unique_ptr<Simulation> cube(const std::string& forces) {
-  return simulationFromJson(R"({"simulation": {"particleRadius": 0.01, "gravity": [0, 0, 0]},
+  return simulationFromJson(R"({"simulation": {"particleRadius": 0.01, "particleSpacing": 2.0, "gravity": [0, 0, 0]},
       "fluids": [{"forces": [)" + forces + R"(], "blocks": [{"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}]}]})");
 }
 
