@@ -39,27 +39,70 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* targets, const Ve
   // Per-thread buffers live in `out`, so steady-state steps allocate nothing.
   out.scratchIndices.resize(maxThreads);
   out.scratchGradW.resize(maxThreads);
+  out.scratchCandidates.resize(maxThreads);
+  out.scratchCandidateIds.resize(maxThreads);
   std::vector<std::size_t> chunkBegin(maxThreads + 1, n);
+  const Real h2 = h * h;
 #pragma omp parallel
   {
     // Static chunks in thread order: concatenating the per-thread buffers gives the CSR array.
-    // One pass finds the neighbours and evaluates grad W while x_j is in cache. The order
-    // within a list (cells in a fixed order, ascending index within a cell) is deterministic.
+    // Queries are Z-sorted, so consecutive ones mostly share a cell: the candidates of the 27
+    // cells around it are gathered once into a structure-of-arrays buffer, whose distance test
+    // vectorises. grad W is evaluated while x_j is in cache. The order within a list is
+    // deterministic (buckets in a fixed order, entries in bucket order).
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     const std::size_t b = n * t / nt, e = n * (t + 1) / nt;
     chunkBegin[t] = b;
     auto& idx = out.scratchIndices[t];
     auto& grad = out.scratchGradW[t];
+    auto& cand = out.scratchCandidates[t];
+    auto& candId = out.scratchCandidateIds[t];
     idx.clear();
     grad.clear();
+    std::array<int, 3> cell = {0, 0, 0};
+    bool haveCell = false;
+    std::size_t nc = 0;
+    std::vector<Real> d2;
+    const Vector3r* sp = grid.sortedPoints();
+    const Index* si = grid.sortedIndices();
     for (std::size_t i = b; i < e; ++i) {
       const Vector3r xi = queries[i];
+      const auto c = grid.cellOf(xi);
+      if (!haveCell || c != cell) {
+        cell = c;
+        haveCell = true;
+        candId.clear();
+        grid.forEachCandidateRange(xi, [&](Index begin, Index end) {
+          for (Index s = begin; s < end; ++s) candId.push_back(s);
+        });
+        nc = candId.size();
+        cand.resize(3 * nc);
+        for (std::size_t k = 0; k < nc; ++k) {
+          const Vector3r& q = sp[candId[k]];
+          cand[k] = q[0];
+          cand[nc + k] = q[1];
+          cand[2 * nc + k] = q[2];
+          candId[k] = si[candId[k]];
+        }
+        d2.resize(nc);
+      }
+      const Real* cx = cand.data();
+      const Real* cy = cx + nc;
+      const Real* cz = cy + nc;
+      const Real px = xi[0], py = xi[1], pz = xi[2];
+#pragma omp simd
+      for (std::size_t k = 0; k < nc; ++k) {
+        const Real dx = px - cx[k], dy = py - cy[k], dz = pz - cz[k];
+        d2[k] = dx * dx + dy * dy + dz * dz;
+      }
       const std::size_t before = idx.size();
-      grid.forEachNeighbor(xi, h, [&](Index j, const Vector3r& xj) {
-        if (excludeSelf && j == i) return;
+      for (std::size_t k = 0; k < nc; ++k) {
+        if (d2[k] > h2) continue;
+        const Index j = candId[k];
+        if (excludeSelf && j == i) continue;
         idx.push_back(j);
-        grad.push_back(kernel.gradW(xi - xj));
-      });
+        grad.push_back(kernel.gradW(Vector3r(px - cx[k], py - cy[k], pz - cz[k])));
+      }
       out.offsets[i + 1] = Index(idx.size() - before);
     }
   }

@@ -3,6 +3,7 @@
 // built once per step and reused by every solver iteration; each entry also caches the kernel
 // gradient, since every Jacobi iteration needs it and recomputing it costs a square root.
 #pragma once
+#include <array>
 #include <vector>
 
 #include "Simulation/Common.h"
@@ -18,6 +19,8 @@ struct NeighborLists {
   // Per-thread scratch of the build, kept so that steady-state steps allocate nothing.
   std::vector<std::vector<Index>> scratchIndices;
   std::vector<std::vector<Vector3r>> scratchGradW;
+  std::vector<std::vector<Real>> scratchCandidates;  // per thread: SoA x, y, z of one cell's candidates
+  std::vector<std::vector<Index>> scratchCandidateIds;
 
   std::size_t queryCount() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   Index begin(std::size_t i) const { return offsets[i]; }
@@ -32,11 +35,11 @@ class PointGrid {
   void build(const Vector3r* points, std::size_t n, Real cellSize);
   std::size_t size() const { return sortedIndex_.size(); }
 
-  // Calls f(j, x_j) for every point j within `radius` (<= cell size) of p.
+  // Calls f(begin, end) for the ranges of sorted entries (sortedPoints/sortedIndices) of the
+  // distinct buckets of the 27 cells around p; candidates, to be filtered by distance.
   template <class F>
-  void forEachNeighbor(const Vector3r& p, Real radius, F&& f) const {
+  void forEachCandidateRange(const Vector3r& p, F&& f) const {
     if (sortedIndex_.empty()) return;
-    const Real r2 = radius * radius;
     const int cx = cellCoord(p[0]), cy = cellCoord(p[1]), cz = cellCoord(p[2]);
     Index buckets[27];
     int nb = 0;
@@ -48,14 +51,26 @@ class PointGrid {
           for (int k = 0; k < nb; ++k) seen |= (buckets[k] == b);
           if (!seen) buckets[nb++] = b;
         }
-    for (int k = 0; k < nb; ++k) {
-      const Index b = buckets[k];
-      for (Index s = cellStart_[b]; s < cellStart_[b + 1]; ++s) {
+    for (int k = 0; k < nb; ++k)
+      if (cellStart_[buckets[k]] < cellStart_[buckets[k] + 1]) f(cellStart_[buckets[k]], cellStart_[buckets[k] + 1]);
+  }
+
+  // Calls f(j, x_j) for every point j within `radius` (<= cell size) of p.
+  template <class F>
+  void forEachNeighbor(const Vector3r& p, Real radius, F&& f) const {
+    const Real r2 = radius * radius;
+    forEachCandidateRange(p, [&](Index begin, Index end) {
+      for (Index s = begin; s < end; ++s) {
         const Vector3r& q = sortedPoints_[s];
         if ((p - q).squaredNorm() <= r2) f(sortedIndex_[s], q);
       }
-    }
+    });
   }
+
+  // The cell of p: queries in one cell share their candidates.
+  std::array<int, 3> cellOf(const Vector3r& p) const { return {cellCoord(p[0]), cellCoord(p[1]), cellCoord(p[2])}; }
+  const Vector3r* sortedPoints() const { return sortedPoints_.data(); }
+  const Index* sortedIndices() const { return sortedIndex_.data(); }
 
  private:
   int cellCoord(Real v) const { return static_cast<int>(std::floor(v * invCellSize_)); }
