@@ -1,5 +1,6 @@
 #include "Plugins/Pressure/DFSPH.h"
 
+#include "Plugins/Pressure/SphPressureTerms.h"
 #include "Simulation/PluginRegistry.h"
 
 namespace consph {
@@ -43,31 +44,17 @@ DFSPH::DFSPH(const Params& p, FluidModel& fluid)
 
 void DFSPH::computeDiagonal(StepContext& ctx) {
   // D_i = |sum_j m_j grad W_ij + sum_k m~_k grad W_ik|^2 + sum_j m_i m_j |grad W_ij|^2   (Eq. 32)
-  // mirroring adds sum_k m_i m~_k |grad W_ik|^2                                          (Eq. 15)
-  FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
-  const auto& fn = ctx.fluidNeighbors;
-  const auto& bn = ctx.boundaryNeighbors;
-  const bool mirrored = ctx.boundaryPressure != BoundaryPressure::Consistent;
-  const std::size_t n = f.size();
+  // mirroring and extrapolation add sum_k m_i m~_k |grad W_ik|^2                          (Eq. 15)
+  treatment_.beginStep(ctx);
+  const std::size_t n = ctx.fluid.size();
   invDiagonal_.resize(n);
   source_.resize(n);
   increment_.resize(n);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
-    Vector3r sumGrad = Vector3r::Zero();
-    Real sumSquares = 0;
-    const Real mi = f.masses[i];
-    for (Index e = fn.begin(i); e < fn.end(i); ++e) {
-      const Vector3r g = f.masses[fn.indices[e]] * fn.gradW[e];
-      sumGrad += g;
-      sumSquares += mi / f.masses[fn.indices[e]] * g.squaredNorm();
-    }
-    for (Index e = bn.begin(i); e < bn.end(i); ++e) {
-      const Vector3r g = b.masses[bn.indices[e]] * bn.gradW[e];
-      sumGrad += g;
-      if (mirrored) sumSquares += mi / b.masses[bn.indices[e]] * g.squaredNorm();
-    }
+    Vector3r sumGrad = treatment_.boundaryGradient(i);
+    Real sumSquares = treatment_.diagonalTerm(i);
+    fluidDiagonalSums(ctx, i, sumGrad, sumSquares);
     const Real d = sumGrad.squaredNorm() + sumSquares;
     invDiagonal_[i] = d > Real(1e-9) ? Real(1) / d : Real(0);
   }
@@ -75,7 +62,6 @@ void DFSPH::computeDiagonal(StepContext& ctx) {
 
 Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
   FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
   const auto& fn = ctx.fluidNeighbors;
   const auto& bn = ctx.boundaryNeighbors;
   const Real rho0 = f.density0(), dt = ctx.dt;
@@ -83,13 +69,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
   double errorSum = 0;
 #pragma omp parallel for schedule(static) reduction(+ : errorSum)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
-    // D rho_i / Dt = sum_j m_j (v_i - v_j) . grad W_ij + sum_k m~_k (v_i - v_k) . grad W_ik
-    const Vector3r vi = f.velocities[i];
-    Real drho = 0;
-    for (Index e = fn.begin(i); e < fn.end(i); ++e)
-      drho += f.masses[fn.indices[e]] * (vi - f.velocities[fn.indices[e]]).dot(fn.gradW[e]);
-    for (Index e = bn.begin(i); e < bn.end(i); ++e)
-      drho += b.masses[bn.indices[e]] * (vi - b.velocities[bn.indices[e]]).dot(bn.gradW[e]);
+    const Real drho = densityRate(ctx, i);
     Real s;
     if (divergence) {
       // Only compression counts, and not at the free surface.
@@ -108,32 +88,27 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
   return n ? Real(errorSum / double(n)) : Real(0);
 }
 
-void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k) {
+void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k, const std::vector<Real>* accumulated) {
   FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
-  const auto& fn = ctx.fluidNeighbors;
-  const auto& bn = ctx.boundaryNeighbors;
-  const Real dt = ctx.dt, rho0 = f.density0();
-  const bool mirroring = ctx.boundaryPressure == BoundaryPressure::Mirroring;
+  const Real dt = ctx.dt;
+  // Extrapolation: p_k from the pressures after this increment, p_j = (beta_j + k_j) rho_j^2;
+  // the velocities already carry the previously applied p_k, so only its change is applied.
+  if (treatment_.extrapolates())
+    treatment_.extrapolate([&](Index j) { return ((accumulated ? (*accumulated)[j] : Real(0)) + k[j]) * f.densities[j] * f.densities[j]; });
+  const std::vector<Real>& pkChange = treatment_.boundaryPressureChanges();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
     const Real ki = k[i];
-    Vector3r dv = Vector3r::Zero();
-    for (Index e = fn.begin(i); e < fn.end(i); ++e) {
-      const Index j = fn.indices[e];
-      dv -= f.masses[j] * (ki + k[j]) * fn.gradW[e];
-    }
-    // Boundary: consistent, Eq. (33): m~_k lambda_i / rho_i = m~_k beta_i;
-    // mirroring, Eq. (16) with p_k = p_i: m~_k p_i (1 / rho_i^2 + 1 / rho0^2).
-    const Real rhoRatio = f.densities[i] / rho0;
-    const Real kb = mirroring ? ki * (Real(1) + rhoRatio * rhoRatio) : ki;
-    for (Index e = bn.begin(i); e < bn.end(i); ++e) dv -= b.masses[bn.indices[e]] * kb * bn.gradW[e];
+    Vector3r dv = fluidPressureAcceleration(ctx, i, k);  // Eq. (9) / (24)
+    // Boundary: Eq. (33) (consistent) or Eq. (16) (mirroring, extrapolation).
+    dv += treatment_.acceleration(ctx, i, ki, ki * f.densities[i] * f.densities[i], pkChange);
     f.velocities[i] += dt * dv;
   }
 }
 
 void DFSPH::warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale) {
   const std::size_t n = ctx.fluid.size();
+  treatment_.resetBoundaryPressures();
   if (!settings_.warmStart) {
     std::fill(beta.begin(), beta.begin() + n, Real(0));
     return;
@@ -143,7 +118,7 @@ void DFSPH::warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale) {
   const Real scale = Real(0.5) * dtScale;
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) beta[i] *= scale;
-  applyPressureIncrement(ctx, beta);
+  applyPressureIncrement(ctx, beta, nullptr);
 }
 
 void DFSPH::beforeNonPressureForces(StepContext& ctx) {
@@ -158,7 +133,7 @@ void DFSPH::beforeNonPressureForces(StepContext& ctx) {
   Real error = computeSources(ctx, true);
   int it = 0;
   while ((error > settings_.maxErrorDivergence || it < 1) && it < settings_.maxIterationsDivergence) {
-    applyPressureIncrement(ctx, increment_);
+    applyPressureIncrement(ctx, increment_, &divergenceBeta_);
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) divergenceBeta_[i] += increment_[i];
     error = computeSources(ctx, true);
@@ -176,7 +151,7 @@ void DFSPH::solve(StepContext& ctx) {
   Real error = computeSources(ctx, false);
   int it = 0;
   while ((error > settings_.maxError || it < settings_.minIterations) && it < settings_.maxIterations) {
-    applyPressureIncrement(ctx, increment_);
+    applyPressureIncrement(ctx, increment_, &densityBeta_);
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) densityBeta_[i] += increment_[i];
     error = computeSources(ctx, false);

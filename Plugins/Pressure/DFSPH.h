@@ -2,11 +2,13 @@
 //   J. Bender, D. Koschier: Divergence-Free SPH for Incompressible and Viscous Fluids.
 //   IEEE Transactions on Visualization and Computer Graphics 23(3), 2017,
 // with the boundary handling of
-//   J. Bender, L. Westhofen, S. R. Jeske: Consistent SPH Rigid-Fluid Coupling. VMV 2023.
+//   J. Bender, L. Westhofen, S. R. Jeske: Consistent SPH Rigid-Fluid Coupling. VMV 2023,
+// or mirroring / MLS extrapolation (BoundaryPressureTreatment), in both solves.
 // Unknowns are beta_i = p_i / rho_i^2 = lambda_i / rho_i (paper Section 3.4.1).
 #pragma once
 #include <vector>
 
+#include "Plugins/Pressure/BoundaryPressureTreatment.h"
 #include "Simulation/Params.h"
 #include "Simulation/PressureSolver.h"
 
@@ -33,14 +35,16 @@ class DFSPH final : public PressureSolver {
   // Source of the density solve (rho* - rho0, Eq. 6) or of the divergence solve (D rho / Dt);
   // returns the average error as a fraction of rho0 (times dt for divergence).
   Real computeSources(StepContext& ctx, bool divergence);
-  // v_i -= dt (sum_j m_j (k_i + k_j) grad W_ij + boundary term), Eqs. (16)/(33).
-  void applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k);
+  // v_i -= dt (sum_j m_j (k_i + k_j) grad W_ij + boundary term), Eqs. (16)/(33); `accumulated`
+  // is the beta the velocities already carry (extrapolation fits p_k to accumulated + k).
+  void applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k, const std::vector<Real>* accumulated);
 
   std::vector<Real>& densityBeta_;     // accumulated beta of the density solve (warm start), sorted field
   std::vector<Real>& divergenceBeta_;  // accumulated beta of the divergence solve, sorted field
   std::vector<Real> invDiagonal_;      // 1 / D_i (Eq. 32 without the -dt / rho_i^2 factor)
   std::vector<Real> source_;           // per-particle source of the current iteration
   std::vector<Real> increment_;        // beta increment of the current iteration
+  BoundaryPressureTreatment treatment_;
 };
 
 }  // namespace consph
