@@ -1,5 +1,6 @@
 #include "Plugins/Pressure/DFSPH.h"
 
+#include "Plugins/Pressure/SphPressureTerms.h"
 #include "Simulation/PluginRegistry.h"
 
 namespace consph {
@@ -48,31 +49,17 @@ DFSPH::DFSPH(const Params& p, FluidModel& fluid)
 
 void DFSPH::computeDiagonal(StepContext& ctx) {
   // D_i = |sum_j m_j grad W_ij + sum_k m~_k grad W_ik|^2 + sum_j m_i m_j |grad W_ij|^2   (Eq. 32)
-  // mirroring adds sum_k m_i m~_k |grad W_ik|^2                                          (Eq. 15)
-  FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
-  const auto& fn = ctx.fluidNeighbors;
-  const auto& bn = ctx.boundaryNeighbors;
-  const bool mirrored = ctx.boundaryPressure != BoundaryPressure::Consistent;
-  const std::size_t n = f.size();
+  // mirroring and extrapolation add sum_k m_i m~_k |grad W_ik|^2                          (Eq. 15)
+  treatment_.beginStep(ctx);
+  const std::size_t n = ctx.fluid.size();
   invDiagonal_.resize(n);
   source_.resize(n);
   increment_.resize(n);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
-    Vector3r sumGrad = Vector3r::Zero();
-    Real sumSquares = 0;
-    const Real mi = f.masses[i];
-    for (Index e = fn.begin(i); e < fn.end(i); ++e) {
-      const Vector3r g = f.masses[fn.indices[e]] * fn.gradW[e];
-      sumGrad += g;
-      sumSquares += mi / f.masses[fn.indices[e]] * g.squaredNorm();
-    }
-    for (Index e = bn.begin(i); e < bn.end(i); ++e) {
-      const Vector3r g = b.masses[bn.indices[e]] * bn.gradW[e];
-      sumGrad += g;
-      if (mirrored) sumSquares += mi / b.masses[bn.indices[e]] * g.squaredNorm();
-    }
+    Vector3r sumGrad = treatment_.boundaryGradient(i);
+    Real sumSquares = treatment_.diagonalTerm(i);
+    fluidDiagonalSums(ctx, i, sumGrad, sumSquares);
     const Real d = sumGrad.squaredNorm() + sumSquares;
     invDiagonal_[i] = d > Real(1e-9) ? Real(1) / d : Real(0);
   }
@@ -80,7 +67,6 @@ void DFSPH::computeDiagonal(StepContext& ctx) {
 
 Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
   FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
   const auto& fn = ctx.fluidNeighbors;
   const auto& bn = ctx.boundaryNeighbors;
   const Real rho0 = f.density0(), dt = ctx.dt;
@@ -96,13 +82,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
   double errorSum = 0;
 #pragma omp parallel for schedule(static) reduction(+ : errorSum)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
-    // D rho_i / Dt = sum_j m_j (v_i - v_j) . grad W_ij + sum_k m~_k (v_i - v_k) . grad W_ik
-    const Vector3r vi = f.velocities[i];
-    Real drho = 0;
-    for (Index e = fn.begin(i); e < fn.end(i); ++e)
-      drho += f.masses[fn.indices[e]] * (vi - f.velocities[fn.indices[e]]).dot(fn.gradW[e]);
-    for (Index e = bn.begin(i); e < bn.end(i); ++e)
-      drho += b.masses[bn.indices[e]] * (vi - b.velocities[bn.indices[e]]).dot(bn.gradW[e]);
+    const Real drho = densityRate(ctx, i);
     Real s;
     if (divergence) {
       // Only compression counts, and not at the free surface.
@@ -122,36 +102,27 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
   return n ? Real(errorSum / double(n)) : Real(0);
 }
 
-Real DFSPH::boundaryFactor(const StepContext& ctx, std::size_t i) const {
-  // Boundary: consistent, Eq. (33): m~_k lambda_i / rho_i = m~_k beta_i;
-  // mirroring, Eq. (16) with p_k = p_i: m~_k p_i (1 / rho_i^2 + 1 / rho0^2).
-  if (ctx.boundaryPressure != BoundaryPressure::Mirroring) return Real(1);
-  const Real rhoRatio = ctx.fluid.densities[i] / ctx.fluid.density0();
-  return Real(1) + rhoRatio * rhoRatio;
-}
-
-void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k) {
+void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k, const std::vector<Real>* accumulated) {
   FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
-  const auto& fn = ctx.fluidNeighbors;
-  const auto& bn = ctx.boundaryNeighbors;
   const Real dt = ctx.dt;
+  // Extrapolation: p_k from the pressures after this increment, p_j = (beta_j + k_j) rho_j^2;
+  // the velocities already carry the previously applied p_k, so only its change is applied.
+  if (treatment_.extrapolates())
+    treatment_.extrapolate([&](Index j) { return ((accumulated ? (*accumulated)[j] : Real(0)) + k[j]) * f.densities[j] * f.densities[j]; });
+  const std::vector<Real>& pkChange = treatment_.boundaryPressureChanges();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
     const Real ki = k[i];
-    Vector3r dv = Vector3r::Zero();
-    for (Index e = fn.begin(i); e < fn.end(i); ++e) {
-      const Index j = fn.indices[e];
-      dv -= f.masses[j] * (ki + k[j]) * fn.gradW[e];
-    }
-    const Real kb = ki * boundaryFactor(ctx, i);
-    for (Index e = bn.begin(i); e < bn.end(i); ++e) dv -= b.masses[bn.indices[e]] * kb * bn.gradW[e];
+    Vector3r dv = fluidPressureAcceleration(ctx, i, k);  // Eq. (9) / (24)
+    // Boundary: Eq. (33) (consistent) or Eq. (16) (mirroring, extrapolation).
+    dv += treatment_.acceleration(ctx, i, ki, ki * f.densities[i] * f.densities[i], pkChange);
     f.velocities[i] += dt * dv;
   }
 }
 
 void DFSPH::warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale) {
   const std::size_t n = ctx.fluid.size();
+  treatment_.resetBoundaryPressures();
   if (!settings_.warmStart) {
     std::fill(beta.begin(), beta.begin() + n, Real(0));
     return;
@@ -161,24 +132,23 @@ void DFSPH::warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale) {
   const Real scale = Real(0.5) * dtScale;
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) beta[i] *= scale;
-  applyPressureIncrement(ctx, beta);
+  applyPressureIncrement(ctx, beta, nullptr);
 }
 
 void DFSPH::beforeNonPressureForces(StepContext& ctx) {
   stats_ = PressureSolverStats();
-  divergenceDt_ = 0;
   computeDiagonal(ctx);
   FluidModel& f = ctx.fluid;
   const std::size_t n = f.size();
+  divergenceDt_ = 0;
   if (!settings_.divergenceSolver) return;
   // The step size of this step is not chosen yet: the divergence solve runs with the last one.
   ctx.dt = ctx.dtPrevious;
-  divergenceDt_ = ctx.dt;
   warmStart(ctx, divergenceBeta_, Real(1));
   Real error = computeSources(ctx, true);
   int it = 0;
   while ((error > settings_.maxErrorDivergence || it < 1) && it < settings_.maxIterationsDivergence) {
-    applyPressureIncrement(ctx, increment_);
+    applyPressureIncrement(ctx, increment_, &divergenceBeta_);
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) divergenceBeta_[i] += increment_[i];
     error = computeSources(ctx, true);
@@ -186,6 +156,8 @@ void DFSPH::beforeNonPressureForces(StepContext& ctx) {
   }
   stats_.divergenceIterations = it;
   stats_.divergenceError = error;
+  divergenceDt_ = ctx.dt;
+  if (treatment_.extrapolates()) divergenceBoundaryP_ = treatment_.boundaryPressures();
 }
 
 void DFSPH::solve(StepContext& ctx) {
@@ -196,7 +168,7 @@ void DFSPH::solve(StepContext& ctx) {
   Real error = computeSources(ctx, false);
   int it = 0;
   while ((error > settings_.maxError || it < settings_.minIterations) && it < settings_.maxIterations) {
-    applyPressureIncrement(ctx, increment_);
+    applyPressureIncrement(ctx, increment_, &densityBeta_);
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) densityBeta_[i] += increment_[i];
     error = computeSources(ctx, false);
@@ -206,9 +178,9 @@ void DFSPH::solve(StepContext& ctx) {
   stats_.densityError = error;
   stats_.hitIterationCap = error > settings_.maxError && it >= settings_.maxIterations;
   // The pressure of the step is what both solves applied: p_i = beta_i rho_i^2 with the
-  // divergence solve's beta (applied over dtPrevious) converted to this step's dt. In a resting
+  // divergence solve's beta (applied over its dt) converted to this step's dt. In a resting
   // column the divergence solve carries a share of the weight, so leaving it out reads low.
-  const Real divergenceScale = settings_.divergenceSolver ? ctx.dtPrevious / ctx.dt : Real(0);
+  const Real divergenceScale = divergenceDt_ / ctx.dt;
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i)
     f.pressures[i] = (densityBeta_[i] + divergenceScale * divergenceBeta_[i]) * f.densities[i] * f.densities[i];
@@ -216,17 +188,26 @@ void DFSPH::solve(StepContext& ctx) {
 
 void DFSPH::boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const {
   // Every application of the boundary term (warm start and each iteration, both solves) changed
-  // v_i by -dt m~_k factor_i beta grad W_ik with this step's fixed gradients and densities, so
-  // the applications of one solve add up to its accumulated beta: the reaction on k is Eq. (35),
-  // m_i m~_k factor_i (dt_div beta_div,i + dt beta_density,i) grad W_ik (beta_i = p_i / rho_i^2).
+  // v_i by -dt m~_k b_ik grad W_ik with this step's fixed gradients and densities, and b_ik is
+  // linear in the applied beta_i and p_k, so the applications of one solve add up to its
+  // accumulated values: the reaction on k is Eq. (35),
+  // m_i m~_k (dt_div b_ik(divergence totals) + dt b_ik(density totals)) grad W_ik.
   const FluidModel& f = ctx.fluid;
   const BoundarySamples& b = ctx.boundary;
   const auto& bn = ctx.boundaryNeighbors;
+  const std::vector<Real>& densityP = treatment_.boundaryPressures();
+  const std::vector<Real>& divergenceP = treatment_.extrapolates() ? divergenceBoundaryP_ : densityP;
   impulsePerPair.resize(bn.pairCount());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
-    const Real c = f.masses[i] * boundaryFactor(ctx, i) * (divergenceDt_ * divergenceBeta_[i] + ctx.dt * densityBeta_[i]);
-    for (Index e = bn.begin(i); e < bn.end(i); ++e) impulsePerPair[e] = (c * b.masses[bn.indices[e]]) * bn.gradW[e];
+    const Real rho2 = f.densities[i] * f.densities[i];
+    const Real betaDiv = divergenceBeta_[i], betaDen = densityBeta_[i];
+    for (Index e = bn.begin(i); e < bn.end(i); ++e) {
+      const Index k = bn.indices[e];
+      const Real c = divergenceDt_ * treatment_.pairFactor(k, betaDiv, betaDiv * rho2, divergenceP) +
+                     ctx.dt * treatment_.pairFactor(k, betaDen, betaDen * rho2, densityP);
+      impulsePerPair[e] = (f.masses[i] * b.masses[k] * c) * bn.gradW[e];
+    }
   }
 }
 

@@ -2,11 +2,13 @@
 //   J. Bender, D. Koschier: Divergence-Free SPH for Incompressible and Viscous Fluids.
 //   IEEE Transactions on Visualization and Computer Graphics 23(3), 2017,
 // with the boundary handling of
-//   J. Bender, L. Westhofen, S. R. Jeske: Consistent SPH Rigid-Fluid Coupling. VMV 2023.
+//   J. Bender, L. Westhofen, S. R. Jeske: Consistent SPH Rigid-Fluid Coupling. VMV 2023,
+// or mirroring / MLS extrapolation (BoundaryPressureTreatment), in both solves.
 // Unknowns are beta_i = p_i / rho_i^2 = lambda_i / rho_i (paper Section 3.4.1).
 #pragma once
 #include <vector>
 
+#include "Plugins/Pressure/BoundaryPressureTreatment.h"
 #include "Simulation/Params.h"
 #include "Simulation/PressureSolver.h"
 
@@ -29,25 +31,24 @@ class DFSPH final : public PressureSolver {
     Real overlapReliefSpeed;  // m/s, 0: off
   } settings_;
 
-  // Factor of beta_i in the boundary term: 1 (consistent, Eq. 33) or 1 + (rho_i / rho0)^2
-  // (mirroring, Eq. 16 with p_k = p_i).
-  Real boundaryFactor(const StepContext& ctx, std::size_t i) const;
-
   void computeDiagonal(StepContext& ctx);
   // Applies (a scaled half of) last step's accumulated beta, or zeroes it.
   void warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale);
   // Source of the density solve (rho* - rho0, Eq. 6) or of the divergence solve (D rho / Dt);
   // returns the average error as a fraction of rho0 (times dt for divergence).
   Real computeSources(StepContext& ctx, bool divergence);
-  // v_i -= dt (sum_j m_j (k_i + k_j) grad W_ij + boundary term), Eqs. (16)/(33).
-  void applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k);
+  // v_i -= dt (sum_j m_j (k_i + k_j) grad W_ij + boundary term), Eqs. (16)/(33); `accumulated`
+  // is the beta the velocities already carry (extrapolation fits p_k to accumulated + k).
+  void applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k, const std::vector<Real>* accumulated);
 
   std::vector<Real>& densityBeta_;     // accumulated beta of the density solve (warm start), sorted field
   std::vector<Real>& divergenceBeta_;  // accumulated beta of the divergence solve, sorted field
   std::vector<Real> invDiagonal_;      // 1 / D_i (Eq. 32 without the -dt / rho_i^2 factor)
   std::vector<Real> source_;           // per-particle source of the current iteration
   std::vector<Real> increment_;        // beta increment of the current iteration
-  Real divergenceDt_ = 0;              // the time step the divergence solve of this step used
+  BoundaryPressureTreatment treatment_;
+  Real divergenceDt_ = 0;                 // the time step the divergence solve of this step used
+  std::vector<Real> divergenceBoundaryP_; // extrapolation: p_k of the divergence solve (its total)
 };
 
 }  // namespace consph

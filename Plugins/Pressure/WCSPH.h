@@ -1,7 +1,9 @@
 // Weakly compressible SPH after
 //   M. Becker, M. Teschner: Weakly compressible SPH for free surface flows. SCA 2007.
 // Pressure from the Tait equation p = k ((rho / rho0)^gamma - 1), clamped at 0; explicit.
+// Boundary neighbours: BoundaryPressureTreatment (consistent, mirroring or extrapolation).
 #pragma once
+#include "Plugins/Pressure/BoundaryPressureTreatment.h"
 #include "Simulation/Params.h"
 #include "Simulation/PressureSolver.h"
 
@@ -16,6 +18,8 @@ class WCSPH final : public PressureSolver {
 
  private:
   Real stiffness_, exponent_;
+  BoundaryPressureTreatment treatment_;
+  std::vector<Real> beta_;  // p_i / rho_i^2
 };
 
 }  // namespace consph

@@ -1,0 +1,98 @@
+#include "Plugins/Pressure/BoundaryPressureTreatment.h"
+
+#include <Eigen/Eigenvalues>
+
+namespace consph {
+
+void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
+  mode_ = ctx.boundaryPressure;
+  classicalDiagonal_ = mode_ != BoundaryPressure::Consistent;
+  const FluidModel& f = ctx.fluid;
+  const BoundarySamples& b = ctx.boundary;
+  const NeighborLists& bn = ctx.boundaryNeighbors;
+  invRho0Squared_ = Real(1) / (f.density0() * f.density0());
+  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  gradientSum_.resize(n);
+  if (classicalDiagonal_) diagonalTerm_.resize(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    Vector3r g = Vector3r::Zero();
+    Real squares = 0;
+    for (Index e = bn.begin(i); e < bn.end(i); ++e) {
+      const Real mk = b.masses[bn.indices[e]];
+      g += mk * bn.gradW[e];
+      squares += mk * bn.gradW[e].squaredNorm();
+    }
+    gradientSum_[i] = g;
+    if (classicalDiagonal_) diagonalTerm_[i] = f.masses[i] * squares;  // Eq. (15)
+  }
+  if (extrapolates()) computeMlsCoefficients(ctx);
+}
+
+void BoundaryPressureTreatment::computeMlsCoefficients(const StepContext& ctx) {
+  // Band et al. 2018, linear MLS around x_k with weights w_f = V_f W_kf:
+  //   x_bar = sum w_f x_f / sum w_f,  M = sum w_f (x_f - x_bar)(x_f - x_bar)^T / sum w_f,
+  //   p_k = p_bar + (M^-1 sum w_f p_f (x_f - x_bar) / sum w_f) . (x_k - x_bar)
+  // is linear in the fluid pressures: p_k = sum_f c_kf p_f with
+  //   c_kf = w_f / sum w_f (1 + (x_f - x_bar) . M^-1 (x_k - x_bar)),
+  // so M is inverted once per step and each iteration is one sparse product (extrapolate()).
+  // Near-singular M (the fluid around x_k is flat or a line): c_kf = w_f / sum w_f (the
+  // weighted average p_bar).
+  const FluidModel& f = ctx.fluid;
+  const BoundarySamples& b = ctx.boundary;
+  const CubicSplineKernel& kernel = ctx.kernel;
+  transposeNeighborLists(ctx.boundaryNeighbors, b.size(), boundaryToFluid_);
+  const NeighborLists& t = boundaryToFluid_;
+  mlsCoefficients_.resize(t.pairCount());
+  pk_.assign(b.size(), Real(0));
+  pkChange_.assign(b.size(), Real(0));
+  const std::ptrdiff_t nk = std::ptrdiff_t(b.size());
+  std::size_t fallbacks = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : fallbacks)
+  for (std::ptrdiff_t k = 0; k < nk; ++k) {
+    if (t.count(k) == 0) continue;
+    const Vector3r xk = b.positions[k];
+    Real sumW = 0;
+    Vector3r xBar = Vector3r::Zero();
+    for (Index e = t.begin(k); e < t.end(k); ++e) {
+      const Index j = t.indices[e];
+      const Real w = f.masses[j] / f.densities[j] * kernel.W(xk - f.positions[j]);
+      mlsCoefficients_[e] = w;  // the weight for now, the coefficient below
+      sumW += w;
+      xBar += w * f.positions[j];
+    }
+    if (sumW <= Real(0)) {  // every neighbour exactly on the support sphere
+      for (Index e = t.begin(k); e < t.end(k); ++e) mlsCoefficients_[e] = Real(1) / Real(t.count(k));
+      ++fallbacks;
+      continue;
+    }
+    const Real invSumW = Real(1) / sumW;
+    xBar *= invSumW;
+    Matrix3r m = Matrix3r::Zero();
+    for (Index e = t.begin(k); e < t.end(k); ++e) {
+      const Vector3r d = f.positions[t.indices[e]] - xBar;
+      m.noalias() += (mlsCoefficients_[e] * invSumW) * d * d.transpose();
+    }
+    // M^-1 (x_k - x_bar) from the eigen-decomposition: its eigenvalues tell how flat the fluid is.
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<Real, 3, 3>> eig;
+    eig.computeDirect(Eigen::Matrix<Real, 3, 3>(m));
+    const auto& lambda = eig.eigenvalues();  // ascending
+    Vector3r slope = Vector3r::Zero();
+    if (t.count(k) >= 4 && lambda[2] > Real(0) && lambda[0] > kSingularRatio * lambda[2]) {
+      const auto& v = eig.eigenvectors();
+      slope = v * (v.transpose() * (xk - xBar)).cwiseQuotient(lambda);
+    } else {
+      ++fallbacks;
+    }
+    for (Index e = t.begin(k); e < t.end(k); ++e)
+      mlsCoefficients_[e] *= invSumW * (Real(1) + (f.positions[t.indices[e]] - xBar).dot(slope));
+  }
+  fallbacks_ = fallbacks;
+}
+
+void BoundaryPressureTreatment::resetBoundaryPressures() {
+  std::fill(pk_.begin(), pk_.end(), Real(0));
+  std::fill(pkChange_.begin(), pkChange_.end(), Real(0));
+}
+
+}  // namespace consph

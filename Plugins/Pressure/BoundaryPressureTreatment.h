@@ -1,0 +1,123 @@
+// How boundary neighbours k of a fluid particle i enter an SPH pressure solve: the one place
+// DFSPH, IISPH and WCSPH share, selected per scene by simulation.boundaryPressure.
+//
+//   consistent     J. Bender, L. Westhofen, S. R. Jeske: Consistent SPH Rigid-Fluid Coupling.
+//                  VMV 2023, Eqs. (29)-(34): boundary gradients only inside the squared gradient
+//                  sum of the diagonal (Eq. 32), no boundary pressure in a_i^p (Eq. 33).
+//   mirroring      N. Akinci, M. Ihmsen, G. Akinci, B. Solenthaler, M. Teschner: Versatile
+//                  rigid-fluid coupling for incompressible SPH. ACM TOG 31(4), 2012:
+//                  p_k = p_i, a_k^p = 0 in Eqs. (15)-(17).
+//   extrapolation  S. Band, C. Gissler, A. Peer, M. Teschner: MLS pressure boundaries for
+//                  divergence-free and viscous SPH fluids. Computers & Graphics 76, 2018:
+//                  p_k = max(0, linear MLS fit of the fluid pressures around x_k), a_k^p = 0,
+//                  in Eqs. (15)-(17).
+//
+// Every treatment writes the boundary part of the pressure acceleration as
+//   a_i^p,b = -sum_k m~_k (p_i / rho_i^2 + p_k / rho0^2) grad W_ik      (Eq. 16; Eq. 33: p_k = 0)
+// Consistent and mirroring have p_k = 0 or p_i, so the sum collapses to a coefficient times the
+// per-particle vector g_i = sum_k m~_k grad W_ik, computed once per step: the solvers' iterations
+// then never visit boundary neighbours. Extrapolation must visit them (p_k differs per k) and
+// additionally fits p_k once per iteration; that is its intrinsic extra cost.
+//
+// Diagonal (documented choice): extrapolation uses the classical Eq. (15), like mirroring. The
+// extrapolated p_k depends on p_i through the MLS fit, and near a wall p_k ~ p_i, so the row of
+// p_i really contains a boundary term of the size of Eq. (15)'s sum_k m_i m~_k |grad W_ik|^2; the
+// consistent diagonal (Eq. 32) would ignore it and over-relax the Jacobi iteration at walls.
+//
+// The solvers call the inline members below inside their OpenMP loops: no virtual call and no
+// branch per neighbour (one switch per particle).
+#pragma once
+#include <algorithm>
+#include <vector>
+
+#include "Simulation/StepContext.h"
+
+namespace consph {
+
+class BoundaryPressureTreatment {
+ public:
+  // Once per step, after the neighbour search and the densities: the per-particle boundary
+  // gradient sums g_i, the Eq. (15) diagonal terms (mirroring, extrapolation) and, for
+  // extrapolation only, the boundary -> fluid lists and MLS coefficients (positions are fixed
+  // during the solve, so the moment matrices are inverted once per step, not per iteration).
+  void beginStep(const StepContext& ctx);
+
+  BoundaryPressure mode() const { return mode_; }
+  bool extrapolates() const { return mode_ == BoundaryPressure::Extrapolation; }
+
+  // g_i = sum_k m~_k grad W_ik: enters the squared gradient sum of Eqs. (15) and (32).
+  const Vector3r& boundaryGradient(std::size_t i) const { return gradientSum_[i]; }
+  // Eq. (15)'s sum_k m_i m~_k |grad W_ik|^2 (mirroring, extrapolation), 0 for Eq. (32).
+  Real diagonalTerm(std::size_t i) const { return classicalDiagonal_ ? diagonalTerm_[i] : Real(0); }
+
+  // Boundary part of a_i^p for fluid pressure p_i (beta_i = p_i / rho_i^2); `pk` holds p_k per
+  // boundary sample (read by extrapolation only: boundaryPressures() or boundaryPressureChanges()).
+  Vector3r acceleration(const StepContext& ctx, std::size_t i, Real betaI, Real pI, const std::vector<Real>& pk) const {
+    switch (mode_) {
+      case BoundaryPressure::Consistent: return -betaI * gradientSum_[i];  // Eq. (33)
+      case BoundaryPressure::Mirroring: return -(betaI + pI * invRho0Squared_) * gradientSum_[i];  // Eq. (16), p_k = p_i
+      case BoundaryPressure::Extrapolation: break;
+    }
+    // Eq. (16) with the extrapolated p_k.
+    const NeighborLists& bn = ctx.boundaryNeighbors;
+    Vector3r a = -betaI * gradientSum_[i];
+    for (Index e = bn.begin(i); e < bn.end(i); ++e) {
+      const Index k = bn.indices[e];
+      a -= (ctx.boundary.masses[k] * pk[k] * invRho0Squared_) * bn.gradW[e];
+    }
+    return a;
+  }
+
+  // The factor b_ik of the boundary term -m~_k b_ik grad W_ik of a_i^p (Eq. 33: beta_i; Eq. 16:
+  // beta_i + p_k / rho0^2): what the reaction on boundary sample k, Eq. (35), multiplies.
+  Real pairFactor(Index k, Real betaI, Real pI, const std::vector<Real>& pk) const {
+    switch (mode_) {
+      case BoundaryPressure::Consistent: return betaI;
+      case BoundaryPressure::Mirroring: return betaI + pI * invRho0Squared_;
+      case BoundaryPressure::Extrapolation: break;
+    }
+    return betaI + pk[k] * invRho0Squared_;
+  }
+
+  // Extrapolation: p_k = max(0, sum_f c_kf p_f) from the fluid pressures pressureOf(f); keeps the
+  // change against the previous call in boundaryPressureChanges() (DFSPH applies increments).
+  template <class PressureOf>
+  void extrapolate(PressureOf&& pressureOf) {
+    const NeighborLists& t = boundaryToFluid_;
+    const std::ptrdiff_t nk = std::ptrdiff_t(pk_.size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t k = 0; k < nk; ++k) {
+      Real p = 0;
+      for (Index e = t.begin(k); e < t.end(k); ++e) p += mlsCoefficients_[e] * pressureOf(t.indices[e]);
+      p = std::max(p, Real(0));
+      pkChange_[k] = p - pk_[k];
+      pk_[k] = p;
+    }
+  }
+  // Sets p_k = 0 (the start of a solve that applies its pressure as increments).
+  void resetBoundaryPressures();
+  const std::vector<Real>& boundaryPressures() const { return pk_; }
+  const std::vector<Real>& boundaryPressureChanges() const { return pkChange_; }
+  // Boundary samples whose moment matrix was near-singular this step (weighted-average fallback).
+  std::size_t fallbackCount() const { return fallbacks_; }
+
+  // Smallest / largest eigenvalue of the weighted moment matrix below which it counts as
+  // near-singular: the fluid around x_k is (nearly) a plane or a line and cannot give a slope
+  // along the missing direction, which is exactly the direction towards the wall.
+  static constexpr Real kSingularRatio = Real(1e-2);
+
+ private:
+  void computeMlsCoefficients(const StepContext& ctx);
+
+  BoundaryPressure mode_ = BoundaryPressure::Consistent;
+  bool classicalDiagonal_ = false;
+  Real invRho0Squared_ = 0;
+  std::vector<Vector3r> gradientSum_;  // (n fluid) g_i = sum_k m~_k grad W_ik
+  std::vector<Real> diagonalTerm_;     // (n fluid) sum_k m_i m~_k |grad W_ik|^2
+  NeighborLists boundaryToFluid_;      // boundary k -> fluid f (extrapolation only)
+  std::vector<Real> mlsCoefficients_;  // (pairs of boundaryToFluid_) c_kf
+  std::vector<Real> pk_, pkChange_;    // (n boundary) p_k and its last change, Pa
+  std::size_t fallbacks_ = 0;
+};
+
+}  // namespace consph

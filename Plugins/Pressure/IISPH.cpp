@@ -1,0 +1,116 @@
+#include "Plugins/Pressure/IISPH.h"
+
+#include "Plugins/Pressure/SphPressureTerms.h"
+#include "Simulation/PluginRegistry.h"
+
+namespace consph {
+
+namespace {
+const PluginRegistration<PressureSolver> registration{
+    "IISPH", "Implicit incompressible SPH: relaxed Jacobi on the pressure Poisson equation (Ihmsen et al. 2014)",
+    IISPH::parameters(), [](const Params& p, const PluginContext&) -> std::unique_ptr<PressureSolver> {
+      return std::make_unique<IISPH>(p);
+    }};
+}  // namespace
+
+std::vector<ParamSpec> IISPH::parameters() {
+  return {
+      {"maxError", ParamType::Real, 0.01, "tolerated average predicted compression, % of rho0", 1e-6, 100},
+      {"minIterations", ParamType::Int, 2, "minimum Jacobi iterations", 0, 10000},
+      {"maxIterations", ParamType::Int, 100, "maximum Jacobi iterations", 1, 100000},
+      {"omega", ParamType::Real, 0.5, "relaxation factor of the Jacobi iteration (Eq. 11)", 1e-3, 1},
+      {"warmStart", ParamType::Bool, true, "start from half of the previous step's pressure"},
+  };
+}
+
+IISPH::IISPH(const Params& p) {
+  settings_.maxError = p.real("maxError") / 100;
+  settings_.minIterations = p.integer("minIterations");
+  settings_.maxIterations = p.integer("maxIterations");
+  settings_.omega = p.real("omega");
+  settings_.warmStart = p.boolean("warmStart");
+  if (settings_.minIterations > settings_.maxIterations)
+    throw InputError(p.pathOf("minIterations") + ": must not exceed maxIterations");
+}
+
+void IISPH::prepare(StepContext& ctx) {
+  treatment_.beginStep(ctx);
+  FluidModel& f = ctx.fluid;
+  const Real rho0 = f.density0(), dt = ctx.dt, omega = settings_.omega;
+  const Real start = settings_.warmStart ? Real(0.5) : Real(0);
+  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  source_.resize(n);
+  omegaOverA_.resize(n);
+  beta_.resize(n);
+  pressureAcc_.resize(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const Real rhoI = f.densities[i];
+    // s_i = (rho0 - rho*_i) / dt, rho*_i = rho_i + dt D rho_i / Dt (Eqs. 5, 6).
+    source_[i] = (rho0 - rhoI - dt * densityRate(ctx, i)) / dt;
+    // A_ii = -dt / rho_i^2 (|sum_j m_j grad W_ij + g_i|^2 + sum_j m_i m_j |grad W_ij|^2 [+ Eq. 15's term]).
+    Vector3r sumGrad = treatment_.boundaryGradient(i);
+    Real squares = treatment_.diagonalTerm(i);
+    fluidDiagonalSums(ctx, i, sumGrad, squares);
+    const Real d = sumGrad.squaredNorm() + squares;
+    omegaOverA_[i] = d > Real(1e-9) ? -omega * rhoI * rhoI / (dt * d) : Real(0);
+    f.pressures[i] = omegaOverA_[i] != 0 ? start * f.pressures[i] : Real(0);
+    beta_[i] = f.pressures[i] / (rhoI * rhoI);
+  }
+}
+
+void IISPH::computeAccelerations(StepContext& ctx) {
+  FluidModel& f = ctx.fluid;
+  if (treatment_.extrapolates()) treatment_.extrapolate([&](Index j) { return f.pressures[j]; });
+  const std::vector<Real>& pk = treatment_.boundaryPressures();
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i)
+    pressureAcc_[i] = fluidPressureAcceleration(ctx, i, beta_) + treatment_.acceleration(ctx, i, beta_[i], f.pressures[i], pk);
+}
+
+Real IISPH::jacobiSweep(StepContext& ctx) {
+  FluidModel& f = ctx.fluid;
+  const NeighborLists& fn = ctx.fluidNeighbors;
+  const Real rho0 = f.density0(), dt = ctx.dt;
+  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  double errorSum = 0;
+#pragma omp parallel for schedule(static) reduction(+ : errorSum)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    // (A p)_i = dt (sum_j m_j (a_i - a_j) . grad W_ij + sum_k m~_k (a_i - a_k) . grad W_ik) with
+    // a_k = 0 (Eqs. 10, 17, 34): the boundary sum is a_i . g_i.
+    const Vector3r ai = pressureAcc_[i];
+    Real laplacian = ai.dot(treatment_.boundaryGradient(i));
+    for (Index e = fn.begin(i); e < fn.end(i); ++e) laplacian += f.masses[fn.indices[e]] * (ai - pressureAcc_[fn.indices[e]]).dot(fn.gradW[e]);
+    const Real residual = source_[i] - dt * laplacian;
+    // rho**_i - rho0 = -dt residual_i: the compression these pressures leave.
+    errorSum += std::max(-dt * residual, Real(0)) / rho0;
+    // Eq. (11), clamped: negative pressures would pull the free surface together.
+    const Real p = std::max(f.pressures[i] + omegaOverA_[i] * residual, Real(0));
+    f.pressures[i] = p;
+    beta_[i] = p / (f.densities[i] * f.densities[i]);
+  }
+  return n ? Real(errorSum / double(n)) : Real(0);
+}
+
+void IISPH::solve(StepContext& ctx) {
+  stats_ = PressureSolverStats();
+  prepare(ctx);
+  Real error = 0;
+  int it = 0;
+  do {
+    computeAccelerations(ctx);
+    error = jacobiSweep(ctx);
+    ++it;
+  } while ((error > settings_.maxError || it < settings_.minIterations) && it < settings_.maxIterations);
+  stats_.pressureIterations = it;
+  stats_.densityError = error;
+  stats_.hitIterationCap = error > settings_.maxError && it >= settings_.maxIterations;
+  // v(t + dt) = v* + dt a^p with the final pressures.
+  computeAccelerations(ctx);
+  FluidModel& f = ctx.fluid;
+  const Real dt = ctx.dt;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) f.velocities[i] += dt * pressureAcc_[i];
+}
+
+}  // namespace consph
