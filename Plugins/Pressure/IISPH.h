@@ -20,6 +20,7 @@ class IISPH final : public PressureSolver {
  public:
   explicit IISPH(const Params& params);
   void solve(StepContext& ctx) override;
+  void boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const override;
   static std::vector<ParamSpec> parameters();
 
  private:

@@ -124,9 +124,19 @@ TEST(RigidBodies, DenserBoxesFloatDeeper) {
 
 // Gravity off, no static boundary: a fluid block hits a free box. The solver's boundary
 // impulses go to the body with the opposite sign, so fluid plus body momentum is constant.
-TEST(RigidBodies, CollisionConservesMomentum) {
-  auto sim = makeSimulation(R"({
-    "simulation": {"particleRadius": 0.025, "gravity": [0, 0, 0], "maxTimeStep": 0.002},
+struct MomentumCase {
+  const char* solver;
+  const char* treatment;
+  double maxTimeStep;
+};
+class CollisionMomentum : public ::testing::TestWithParam<MomentumCase> {};
+
+// Every solver and boundary treatment reports the exact reaction of its boundary term.
+TEST_P(CollisionMomentum, IsConservedToRoundOff) {
+  const MomentumCase c = GetParam();
+  auto sim = makeSimulation(std::string(R"({
+    "simulation": {"particleRadius": 0.025, "gravity": [0, 0, 0], "maxTimeStep": )") + std::to_string(c.maxTimeStep) +
+                            R"(, "pressureSolver": {"type": ")" + c.solver + R"("}, "boundaryPressure": ")" + c.treatment + R"("},
     "fluids": [{"blocks": [{"min": [0, 0, 0], "max": [0.3, 0.3, 0.3], "velocity": [2, 0, 0]}]}],
     "boundaries": [{"name": "box", "box": {"min": [0.35, 0.0, 0.0], "max": [0.55, 0.2, 0.3]}, "dynamic": true,
                     "density": 500, "angularVelocity": [0, 0, 0.5]}],
@@ -142,11 +152,21 @@ TEST(RigidBodies, CollisionConservesMomentum) {
     worst = std::max(worst, double((p - previous).norm() / p0.norm()));
     previous = p;
   }
-  std::printf("[ momentum ] body momentum %.4f of the total, worst relative change per step %.3g\n",
-              double(body.mass * body.v[0] / p0[0]), worst);
+  std::printf("[ momentum ] %s/%s: body momentum %.4f of the total, worst relative change per step %.3g\n", c.solver,
+              c.treatment, double(body.mass * body.v[0] / p0[0]), worst);
   EXPECT_GT(body.mass * body.v[0], 0.05 * p0[0]);  // the fluid did push the body
   EXPECT_LT(worst, 1e-6);
 }
+
+INSTANTIATE_TEST_SUITE_P(RigidBodies, CollisionMomentum,
+                         ::testing::Values(MomentumCase{"DFSPH", "consistent", 0.002}, MomentumCase{"DFSPH", "mirroring", 0.002},
+                                           MomentumCase{"DFSPH", "extrapolation", 0.002},
+                                           MomentumCase{"IISPH", "consistent", 0.002}, MomentumCase{"IISPH", "mirroring", 0.002},
+                                           MomentumCase{"IISPH", "extrapolation", 0.002},
+                                           MomentumCase{"WCSPH", "consistent", 0.0005}, MomentumCase{"WCSPH", "extrapolation", 0.0005}),
+                         [](const ::testing::TestParamInfo<MomentumCase>& info) {
+                           return std::string(info.param.solver) + "_" + info.param.treatment;
+                         });
 
 // A wheel on a hinge: fluid falls on one side of a box pivoted at its centre. It may only turn
 // about the axle, and its axle point must stay where it is.
