@@ -148,7 +148,8 @@ TEST_P(SphereDrop, FluidSettlesInsideTheSphereWall) {
   const auto [solver, treatment] = GetParam();
   const Real r = Real(0.02), radius = Real(0.3);
   json ps = {{"type", solver}, {"maxError", 0.05}};
-  json scene = {{"simulation", {{"particleRadius", r}, {"maxTimeStep", 0.005}, {"pressureSolver", ps}, {"boundaryPressure", treatment}}},
+  json scene = {{"simulation", {{"particleRadius", r}, {"particleSpacing", 2.0}, {"maxTimeStep", 0.005}, {"pressureSolver", ps},
+                                {"boundaryPressure", treatment}}},
                 {"fluids", {{{"density0", kRho0},
                              {"forces", {{{"type", "StandardViscosity"}, {"viscosity", 0.01}}}},
                              {"blocks", {{{"min", {-0.12, -0.08, -0.12}}, {"max", {0.12, 0.16, 0.12}}}}}}}},
