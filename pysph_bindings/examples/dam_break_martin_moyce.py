@@ -5,8 +5,8 @@ every step, and plots the dimensionless front Z = x / a against T = t sqrt(2 g /
 Martin & Moyce's measurements; prints the RMS difference of Z at the measured times.
 
 The front is the largest x of any particle plus its radius, measured from the column's initial
-back face (the fluid block's min x): the block's lattice (spacing 2r, one particle of volume
-(2r)^3 per cell) fills [min, max] exactly, so Z = 1 at T = 0.
+back face (the fluid block's min x): the block's lattice (spacing simulation.particleSpacing r, one particle of volume
+d^3 per cell) fills [min, max] exactly, so Z = 1 at T = 0.
 
     PYTHONPATH=build/python /usr/bin/python3 pysph_bindings/examples/dam_break_martin_moyce.py \
         [--scene data/scenes/DamBreakMartinMoyce.json] [--png dam_break_martin_moyce.png] [--threads 2]
