@@ -53,16 +53,18 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* targets, const Ve
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     const std::size_t b = n * t / nt, e = n * (t + 1) / nt;
     chunkBegin[t] = b;
-    auto& idx = out.scratchIndices[t];
-    auto& grad = out.scratchGradW[t];
-    auto& cand = out.scratchCandidates[t];
-    auto& candId = out.scratchCandidateIds[t];
+    // The buffers are moved into locals: their headers (size, capacity) then live on this
+    // thread's stack, not side by side in a shared array where every push_back would fight
+    // over one cache line with the other threads (false sharing).
+    std::vector<Index> idx = std::move(out.scratchIndices[t]), candId = std::move(out.scratchCandidateIds[t]);
+    std::vector<Vector3r> grad = std::move(out.scratchGradW[t]);
+    std::vector<Real> cand = std::move(out.scratchCandidates[t]);
     idx.clear();
     grad.clear();
     std::array<int, 3> cell = {0, 0, 0};
     bool haveCell = false;
     std::size_t nc = 0;
-    std::vector<Real> d2;
+    std::vector<Real> d2;  // thread-local
     const Vector3r* sp = grid.sortedPoints();
     const Index* si = grid.sortedIndices();
     for (std::size_t i = b; i < e; ++i) {
@@ -105,6 +107,10 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* targets, const Ve
       }
       out.offsets[i + 1] = Index(idx.size() - before);
     }
+    out.scratchIndices[t] = std::move(idx);
+    out.scratchGradW[t] = std::move(grad);
+    out.scratchCandidates[t] = std::move(cand);
+    out.scratchCandidateIds[t] = std::move(candId);
   }
   for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
   out.indices.resize(out.offsets[n]);
