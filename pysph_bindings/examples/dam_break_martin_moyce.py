@@ -22,9 +22,7 @@ import consph
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
-DEFAULT_DATA = os.path.join(os.path.dirname(REPO), "shared", "data", "validation", "martin_moyce_1952_front_n2.csv")
-if not os.path.exists(DEFAULT_DATA):
-    DEFAULT_DATA = "/work/shared/data/validation/martin_moyce_1952_front_n2.csv"
+DEFAULT_DATA = os.path.join(REPO, "data", "validation", "martin_moyce_1952_front_n2.csv")
 
 
 def main():
