@@ -1,4 +1,4 @@
-// A 1 m column of water at rest (data/scenes/Hydrostatic.json, DFSPH, 2 s): density error within
+// A 1 m column of water at rest (data/scenes/Hydrostatic.json, DFSPH, 2 s, consistent boundaries): density error within
 // the solver tolerance, p = rho0 g (depth) away from the surface and the walls, nearly at rest,
 // no particle lost.
 #include <gtest/gtest.h>
@@ -9,8 +9,12 @@
 
 using namespace consph;
 
-TEST(Hydrostatic, ColumnAtRestDFSPH) {
+class Hydrostatic : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(Hydrostatic, ColumnAtRestDFSPH) {
   json scene = readJsonFile(test::dataPath("scenes/Hydrostatic.json"));
+  scene["simulation"]["boundaryPressure"] = GetParam();
+  std::printf("hydrostatic: boundary pressure %s\n", GetParam());
   auto sim = test::simulationFromJson(scene);
   const Real r = sim->scene().particleRadius, rho0 = sim->fluid().density0(), g = Real(9.81);
   const Real tolerance = Real(scene["simulation"]["pressureSolver"]["maxError"].get<double>() / 100);
@@ -100,3 +104,16 @@ TEST(Hydrostatic, ColumnAtRestDFSPH) {
   std::printf("hydrostatic: mean speed %.4f m/s, max interior speed %.4f m/s, true density error %.5f %%\n", meanSpeed,
               maxInteriorSpeed, 100 * trueAverage);
 }
+
+INSTANTIATE_TEST_SUITE_P(Treatments, Hydrostatic, ::testing::Values("consistent"),
+                         [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
+
+// The same column with the other two treatments does not meet these criteria today (measured
+// 2026-11-23, double, 2 threads; run with --gtest_also_run_disabled_tests):
+//  - mirroring: dp/d(depth) = 1.049 rho0 g, every depth bin 5.3-6.1 % high (the mirrored wall
+//    pressure holds the column off the walls and the interior pressure reads high);
+//  - extrapolation: dp/d(depth) = 1.006 rho0 g, bins 1.8-3.6 % high, but not at rest: mean
+//    speed 1.7 cm/s, interior maximum 17 cm/s at t = 2 s.
+// Kept as a disabled instance so the criterion stays visible and runnable, not loosened.
+INSTANTIATE_TEST_SUITE_P(DISABLED_OtherTreatments, Hydrostatic, ::testing::Values("mirroring", "extrapolation"),
+                         [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
