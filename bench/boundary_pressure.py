@@ -33,22 +33,15 @@ ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 from vtu import read_vtu  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from machine import cpu_model  # noqa: E402
+
 TREATMENTS = ["consistent", "mirroring", "extrapolation"]
 SOLVERS = {
     "DFSPH": {"type": "DFSPH", "maxError": 0.01, "maxErrorDivergence": 0.1},
     "IISPH": {"type": "IISPH", "maxError": 0.01, "maxIterations": 100, "omega": 0.5},
 }
 FPS = 2
-
-
-def cpu_model():
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return "unknown"
 
 
 def run(binary, scene, solver, treatment, args, work):

@@ -15,21 +15,17 @@ OpenMP's default spin-waiting made a 2-thread run up to 30x slower and the figur
 import argparse
 import json
 import os
-import platform
 import re
 import statistics
 import subprocess
 import tempfile
 
+import sys
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from machine import cpu_model  # noqa: E402
+
 FORCES = ["XSPH", "StandardViscosity", "Weiler2018", "Micropolar", "VorticityConfinement", "Gissler2017",
           "Macklin2014", "Akinci2013"]
-
-
-def cpu_model():
-    for line in open("/proc/cpuinfo"):
-        if line.startswith("model name"):
-            return line.split(":", 1)[1].strip()
-    return platform.processor()
 
 
 def run(binary, forces, args):

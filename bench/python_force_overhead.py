@@ -4,22 +4,16 @@
     PYTHONPATH=build/python /usr/bin/python3 bench/python_force_overhead.py [--threads 1] [--steps 200]
 """
 import argparse
-import platform
 import time
 
 import numpy as np
 
 import consph
 
-
-def cpu_model():
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
+import sys
+import os
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from machine import cpu_model  # noqa: E402
 
 
 def scene(r):

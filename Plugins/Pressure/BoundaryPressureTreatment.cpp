@@ -95,4 +95,19 @@ void BoundaryPressureTreatment::resetBoundaryPressures() {
   std::fill(pkChange_.begin(), pkChange_.end(), Real(0));
 }
 
+void BoundaryPressureTreatment::reactionImpulses(const StepContext& ctx, Real dt, const std::vector<Real>& beta,
+                                                 const std::vector<Real>& pressure,
+                                                 std::vector<Vector3r>& impulsePerPair) const {
+  const FluidModel& f = ctx.fluid;
+  const auto& bn = ctx.boundaryNeighbors;
+  impulsePerPair.resize(bn.pairCount());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i)
+    for (Index e = bn.begin(i); e < bn.end(i); ++e) {
+      const Index k = bn.indices[e];
+      const Real c = dt * f.masses[i] * ctx.boundary.masses[k] * pairFactor(k, beta[i], pressure[i], pk_);
+      impulsePerPair[e] = c * bn.gradW[e];
+    }
+}
+
 }  // namespace consph

@@ -79,6 +79,12 @@ class BoundaryPressureTreatment {
     return betaI + pk[k] * invRho0Squared_;
   }
 
+  // The reaction on every boundary sample, Eq. (35), of one application of the boundary term
+  // over `dt` with pressures beta_i = p_i / rho_i^2 and p_i (explicit solvers, or an implicit
+  // one that applies its final pressures once): dt m_i m~_k b_ik grad W_ik per pair.
+  void reactionImpulses(const StepContext& ctx, Real dt, const std::vector<Real>& beta, const std::vector<Real>& pressure,
+                        std::vector<Vector3r>& impulsePerPair) const;
+
   // Extrapolation: p_k = max(0, sum_f c_kf p_f) from the fluid pressures pressureOf(f); keeps the
   // change against the previous call in boundaryPressureChanges() (DFSPH applies increments).
   template <class PressureOf>

@@ -114,19 +114,8 @@ void IISPH::solve(StepContext& ctx) {
 }
 
 void IISPH::boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const {
-  // The fluid received dt a^p once, with the final pressures: the reaction on k, Eq. (35), is
-  // dt m_i m~_k b_ik grad W_ik with the same boundary factor the last acceleration used.
-  const FluidModel& f = ctx.fluid;
-  const auto& bn = ctx.boundaryNeighbors;
-  const std::vector<Real>& pk = treatment_.boundaryPressures();
-  impulsePerPair.resize(bn.pairCount());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i)
-    for (Index e = bn.begin(i); e < bn.end(i); ++e) {
-      const Index k = bn.indices[e];
-      const Real c = ctx.dt * f.masses[i] * ctx.boundary.masses[k] * treatment_.pairFactor(k, beta_[i], f.pressures[i], pk);
-      impulsePerPair[e] = c * bn.gradW[e];
-    }
+  // The fluid received dt a^p once, with the final pressures: the reaction on k, Eq. (35).
+  treatment_.reactionImpulses(ctx, ctx.dt, beta_, ctx.fluid.pressures, impulsePerPair);
 }
 
 }  // namespace consph

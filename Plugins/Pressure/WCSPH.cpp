@@ -50,18 +50,8 @@ void WCSPH::solve(StepContext& ctx) {
 }
 
 void WCSPH::boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const {
-  // The reaction of the boundary term, Eq. (35): dt m_i m~_k b_ik grad W_ik.
-  const FluidModel& f = ctx.fluid;
-  const auto& bn = ctx.boundaryNeighbors;
-  const std::vector<Real>& pk = treatment_.boundaryPressures();
-  impulsePerPair.resize(bn.pairCount());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i)
-    for (Index e = bn.begin(i); e < bn.end(i); ++e) {
-      const Index k = bn.indices[e];
-      const Real c = ctx.dt * f.masses[i] * ctx.boundary.masses[k] * treatment_.pairFactor(k, beta_[i], f.pressures[i], pk);
-      impulsePerPair[e] = c * bn.gradW[e];
-    }
+  // The reaction of the explicit boundary term, Eq. (35).
+  treatment_.reactionImpulses(ctx, ctx.dt, beta_, ctx.fluid.pressures, impulsePerPair);
 }
 
 }  // namespace consph
