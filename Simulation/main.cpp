@@ -135,10 +135,13 @@ int main(int argc, char** argv) {
     if (o.threads > 0) omp_set_num_threads(o.threads);
     if (o.scene.empty()) o.scene = defaultScene();
     LogSink log = stderrLogSink(o.quiet);
+    // Output options are scene overrides, so the simulation never touches the scene's own
+    // output folder when another one (or none) is asked for.
+    if (o.noOutput) o.overrides.emplace_back("output.enabled", "false");
+    if (!o.outputDir.empty()) o.overrides.emplace_back("output.directory", json(o.outputDir).dump());
+    if (o.fps > 0) o.overrides.emplace_back("output.fps", json(o.fps).dump());
     auto sim = loadSimulation(o.scene, o.overrides, log);
-    if (o.noOutput) sim->setOutputEnabled(false);
-    if (o.fps > 0) sim->setOutputFps(Real(o.fps));
-    if (!o.outputDir.empty() && !o.noOutput) sim->setOutputDirectory(o.outputDir);
+
     const double stopAt = o.stopAt >= 0 ? o.stopAt : double(sim->scene().stopAt);
     if (!o.quiet)
       std::fprintf(stderr, "consph: %s, %zu fluid + %zu boundary particles, %s, %d threads, %s -> %s\n", o.scene.c_str(),
