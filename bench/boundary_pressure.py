@@ -54,9 +54,11 @@ def run(binary, scene, solver, treatment, args, work):
            "--set", "simulation.pressureSolver=" + json.dumps(SOLVERS[solver]), "--summary-json", summary]
     t0 = time.time()
     proc = subprocess.run(cmd, capture_output=True, text=True)
-    if proc.returncode != 0:
+    if proc.returncode != 0 and not os.path.exists(summary):
         sys.exit(f"{' '.join(cmd)} failed ({proc.returncode}):\n{proc.stderr}")
-    print(f"  {solver:5s} {treatment:13s} done in {time.time() - t0:.0f} s", flush=True)
+    # A run that blows up still writes its summary (status "failed"): it becomes a table row.
+    state = "FAILED" if proc.returncode != 0 else "done"
+    print(f"  {solver:5s} {treatment:13s} {state} in {time.time() - t0:.0f} s", flush=True)
     return out, json.load(open(summary))
 
 
@@ -142,8 +144,11 @@ def main():
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
         runs = dict(zip(combos, pool.map(lambda c: run(args.binary, args.scene, c[0], c[1], args, args.work), combos)))
 
-    rows, figs = [], {}
+    rows, figs, failures = [], {}, []
     for (solver, treatment), (out, s) in runs.items():
+        if s.get("status") == "failed":
+            failures.append(f"- {solver} {treatment}: FAILED after {s['steps']} steps: {s.get('error', '')}")
+            continue
         boundary = read_vtu(os.path.join(out, "boundary.vtu"))["position"]
         frames = rest_frames(out, args.stop_at)
         per = [noise(read_vtu(f), boundary, r, rho0, g) for f in frames]
@@ -174,8 +179,11 @@ def main():
                      f"{q['wall_per_sim_s']:.1f} | {q['iters']:.2f} | {q['div_iters']:.2f} | {q['density_error']:.4f} | "
                      f"{q['cap_hits']} | {q['noise_wall']:.3f} | {q['noise_all']:.3f} | {q['wall_ratio']:.3f} | {q['scatter_wall']:.3f} | {q['wall_gap']:.2f} |")
     lines.append("")
+    lines += failures
     for solver in SOLVERS:
-        base = next(q for q in rows if q["solver"] == solver and q["treatment"] == "consistent")
+        base = next((q for q in rows if q["solver"] == solver and q["treatment"] == "consistent"), None)
+        if base is None:
+            continue
         for q in rows:
             if q["solver"] != solver or q is base:
                 continue
