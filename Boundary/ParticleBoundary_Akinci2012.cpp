@@ -57,7 +57,7 @@ void ParticleBoundary_Akinci2012::findNeighbors(const FluidModel& fluid, const C
     grid_.build(samples_.positions.data(), samples_.size(), kernel.supportRadius());
     moved_ = false;
   }
-  buildNeighborLists(grid_, samples_.positions.data(), fluid.positions.data(), fluid.size(), kernel, false, out);
+  buildNeighborLists(grid_, fluid.positions.data(), fluid.size(), kernel, false, out);
 }
 
 }  // namespace consph

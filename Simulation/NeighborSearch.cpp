@@ -30,7 +30,7 @@ void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
   }
 }
 
-void buildNeighborLists(const PointGrid& grid, const Vector3r* targets, const Vector3r* queries, std::size_t n,
+void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::size_t n,
                         const CubicSplineKernel& kernel, bool excludeSelf, NeighborLists& out) {
   const Real h = kernel.supportRadius();
   out.offsets.resize(n + 1);
@@ -121,7 +121,6 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* targets, const Ve
     std::copy(out.scratchIndices[t].begin(), out.scratchIndices[t].end(), out.indices.begin() + at);
     std::copy(out.scratchGradW[t].begin(), out.scratchGradW[t].end(), out.gradW.begin() + at);
   }
-  (void)targets;
 }
 
 namespace {

@@ -89,8 +89,8 @@ class PointGrid {
 
 // Builds neighbour lists of `queries` against the points of `grid` within the kernel's support
 // radius; `excludeSelf` drops j == i (query set == grid set).
-// `targets` are the points the grid was built over (for the cached kernel gradients).
-void buildNeighborLists(const PointGrid& grid, const Vector3r* targets, const Vector3r* queries, std::size_t nQueries,
+// The grid keeps its own copy of the points it was built over, for the cached kernel gradients.
+void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::size_t nQueries,
                         const CubicSplineKernel& kernel, bool excludeSelf, NeighborLists& out);
 
 // A permutation that orders the points along a Z-order (Morton) curve of cells of `cellSize`,

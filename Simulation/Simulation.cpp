@@ -254,7 +254,7 @@ void Simulation::findNeighbors() {
     f.fields().permuteSorted(order);
   }
   fluidGrid_.build(f.positions.data(), f.size(), kernel_.supportRadius());
-  buildNeighborLists(fluidGrid_, f.positions.data(), f.positions.data(), f.size(), kernel_, true, fluidNeighbors_);
+  buildNeighborLists(fluidGrid_, f.positions.data(), f.size(), kernel_, true, fluidNeighbors_);
   boundaryModel_->findNeighbors(f, kernel_, boundaryNeighbors_);
 }
 

@@ -53,7 +53,6 @@ void DFSPH::computeDiagonal(StepContext& ctx) {
   treatment_.beginStep(ctx);
   const std::size_t n = ctx.fluid.size();
   invDiagonal_.resize(n);
-  source_.resize(n);
   increment_.resize(n);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
@@ -97,7 +96,6 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
       increment_[i] = s * invDiagonal_[i] / (dt * dt);
       errorSum += s / rho0;
     }
-    source_[i] = s;
   }
   return n ? Real(errorSum / double(n)) : Real(0);
 }

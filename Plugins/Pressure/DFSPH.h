@@ -44,7 +44,6 @@ class DFSPH final : public PressureSolver {
   std::vector<Real>& densityBeta_;     // accumulated beta of the density solve (warm start), sorted field
   std::vector<Real>& divergenceBeta_;  // accumulated beta of the divergence solve, sorted field
   std::vector<Real> invDiagonal_;      // 1 / D_i (Eq. 32 without the -dt / rho_i^2 factor)
-  std::vector<Real> source_;           // per-particle source of the current iteration
   std::vector<Real> increment_;        // beta increment of the current iteration
   BoundaryPressureTreatment treatment_;
   Real divergenceDt_ = 0;                 // the time step the divergence solve of this step used

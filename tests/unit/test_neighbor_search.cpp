@@ -44,7 +44,7 @@ TEST(NeighborSearch, SelfSearchEqualsBruteForce) {
   PointGrid grid;
   grid.build(points.data(), points.size(), kernel.supportRadius());
   NeighborLists lists;
-  buildNeighborLists(grid, points.data(), points.data(), points.size(), kernel, true, lists);
+  buildNeighborLists(grid, points.data(), points.size(), kernel, true, lists);
   expectBruteForce(points, points, lists, kernel, true);
 }
 
@@ -55,7 +55,7 @@ TEST(NeighborSearch, CrossSetSearchEqualsBruteForce) {
   PointGrid grid;
   grid.build(targets.data(), targets.size(), kernel.supportRadius());
   NeighborLists lists;
-  buildNeighborLists(grid, targets.data(), queries.data(), queries.size(), kernel, false, lists);
+  buildNeighborLists(grid, queries.data(), queries.size(), kernel, false, lists);
   expectBruteForce(targets, queries, lists, kernel, false);
 }
 
@@ -67,7 +67,7 @@ TEST(NeighborSearch, NegativeAndFarCoordinatesDoNotAlias) {
   PointGrid grid;
   grid.build(points.data(), points.size(), kernel.supportRadius());
   NeighborLists lists;
-  buildNeighborLists(grid, points.data(), points.data(), points.size(), kernel, true, lists);
+  buildNeighborLists(grid, points.data(), points.size(), kernel, true, lists);
   expectBruteForce(points, points, lists, kernel, true);
 }
 
@@ -89,7 +89,7 @@ TEST(NeighborSearch, ZOrderIsAPermutationAndSearchStillExact) {
   PointGrid grid;
   grid.build(sorted.data(), sorted.size(), kernel.supportRadius());
   NeighborLists lists;
-  buildNeighborLists(grid, sorted.data(), sorted.data(), sorted.size(), kernel, true, lists);
+  buildNeighborLists(grid, sorted.data(), sorted.size(), kernel, true, lists);
   expectBruteForce(sorted, sorted, lists, kernel, true);
 }
 
@@ -100,7 +100,7 @@ TEST(NeighborSearch, TransposeReversesEveryPair) {
   PointGrid grid;
   grid.build(targets.data(), targets.size(), kernel.supportRadius());
   NeighborLists lists, reversed;
-  buildNeighborLists(grid, targets.data(), queries.data(), queries.size(), kernel, false, lists);
+  buildNeighborLists(grid, queries.data(), queries.size(), kernel, false, lists);
   transposeNeighborLists(lists, targets.size(), reversed);
   ASSERT_EQ(reversed.pairCount(), lists.pairCount());
   for (std::size_t k = 0; k < targets.size(); ++k)
@@ -118,7 +118,7 @@ TEST(NeighborSearch, EmptySets) {
   grid.build(nullptr, 0, kernel.supportRadius());
   const auto queries = randomPoints(10, 9, Real(0.1));
   NeighborLists lists;
-  buildNeighborLists(grid, nullptr, queries.data(), queries.size(), kernel, false, lists);
+  buildNeighborLists(grid, queries.data(), queries.size(), kernel, false, lists);
   EXPECT_EQ(lists.pairCount(), 0u);
   EXPECT_EQ(lists.queryCount(), 10u);
 }
