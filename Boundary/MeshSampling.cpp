@@ -1,6 +1,9 @@
 #include "Boundary/MeshSampling.h"
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 namespace consph {
@@ -37,16 +40,115 @@ std::vector<Vector3r> thinPoints(const std::vector<Vector3r>& points, Real minDi
   return kept;
 }
 
-std::vector<Vector3r> sampleMeshSurface(const TriangleMesh& mesh, Real spacing) {
+namespace {
+
+// Distance along the ray o + t dir (t > 0) to the nearest triangle other than `skip`;
+// infinity when none is hit (Moeller-Trumbore).
+Real rayHitDistance(const TriangleMesh& mesh, const Vector3r& o, const Vector3r& dir, std::size_t skip) {
+  Real best = std::numeric_limits<Real>::infinity();
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (t == skip) continue;
+    const auto& tri = mesh.triangles[t];
+    const Vector3r a = mesh.vertices[tri[0]], e1 = mesh.vertices[tri[1]] - a, e2 = mesh.vertices[tri[2]] - a;
+    const Vector3r pv = dir.cross(e2);
+    const Real det = e1.dot(pv);
+    if (std::abs(det) < Real(1e-14)) continue;
+    const Vector3r tv = o - a;
+    const Real u = tv.dot(pv) / det;
+    if (u < 0 || u > 1) continue;
+    const Vector3r qv = tv.cross(e1);
+    const Real v = dir.dot(qv) / det;
+    if (v < 0 || u + v > 1) continue;
+    const Real dist = e2.dot(qv) / det;
+    if (dist > Real(1e-9) && dist < best) best = dist;
+  }
+  return best;
+}
+
+}  // namespace
+
+std::vector<Vector3r> sampleMeshSurface(const TriangleMesh& mesh, Real spacing, Real normalOffset) {
   std::vector<Vector3r> points;
-  for (auto& t : mesh.triangles) {
-    const Vector3r a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
+  std::vector<Real> shifts;  // how far each point was moved
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const Vector3r a = mesh.vertices[tri[0]], b = mesh.vertices[tri[1]], c = mesh.vertices[tri[2]];
     const Real longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
     const int n = std::max(1, int(std::ceil(longest / spacing)));
+    const Vector3r normal = (b - a).cross(c - a).normalized();
+    const bool moved = normalOffset != 0 && normal.allFinite();
+    const Vector3r dir = moved ? Vector3r((normalOffset > 0 ? 1 : -1) * normal) : Vector3r::Zero();
     for (int i = 0; i <= n; ++i)
-      for (int j = 0; i + j <= n; ++j) points.push_back(a + (b - a) * (Real(i) / n) + (c - a) * (Real(j) / n));
+      for (int j = 0; i + j <= n; ++j) {
+        const Vector3r p = a + (b - a) * (Real(i) / n) + (c - a) * (Real(j) / n);
+        // A part thinner than twice the offset (a paddle, a plate) keeps its layer at its
+        // mid-plane instead of pushing it out of the other side.
+        const Real shift = moved ? std::min(std::abs(normalOffset), Real(0.5) * rayHitDistance(mesh, p, dir, t)) : Real(0);
+        points.push_back(p + shift * dir);
+        shifts.push_back(shift);
+      }
+  }
+  if (normalOffset != 0) {
+    addCreaseSamples(mesh, spacing, normalOffset, points);
+    shifts.resize(points.size(), std::abs(normalOffset));
+    dropPointsNearerThan(mesh, shifts, points);
   }
   return thinPoints(points, Real(0.6) * spacing);
+}
+
+void addCreaseSamples(const TriangleMesh& mesh, Real spacing, Real normalOffset, std::vector<Vector3r>& points) {
+  // Triangles moved apart along their normals leave a strip open along every crease where the
+  // offset side is convex (a container's edges, moved outwards) and a hole at every corner:
+  // close them with arcs of radius |offset| about the edge and one point per corner.
+  struct EdgeFaces {
+    Index a, b;
+    int faces[2] = {-1, -1};
+  };
+  struct PairHash {
+    std::size_t operator()(const std::pair<Index, Index>& e) const { return std::size_t(e.first) * 1000003u ^ std::size_t(e.second); }
+  };
+  std::unordered_map<std::pair<Index, Index>, EdgeFaces, PairHash> edges;
+  std::vector<Vector3r> normals(mesh.triangles.size()), centroids(mesh.triangles.size());
+  std::vector<Vector3r> vertexNormals(mesh.vertices.size(), Vector3r::Zero());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const Vector3r& a = mesh.vertices[tri[0]];
+    const Vector3r& b = mesh.vertices[tri[1]];
+    const Vector3r& c = mesh.vertices[tri[2]];
+    const Vector3r n = (b - a).cross(c - a);
+    normals[t] = n.norm() > 0 ? Vector3r(n.normalized()) : Vector3r::Zero();
+    centroids[t] = (a + b + c) / 3;
+    for (int e = 0; e < 3; ++e) {
+      vertexNormals[tri[e]] += normals[t] * std::acos(std::clamp<Real>(
+          (mesh.vertices[tri[(e + 1) % 3]] - mesh.vertices[tri[e]]).normalized().dot((mesh.vertices[tri[(e + 2) % 3]] - mesh.vertices[tri[e]]).normalized()), -1, 1));
+      const Index u = std::min(tri[e], tri[(e + 1) % 3]), v = std::max(tri[e], tri[(e + 1) % 3]);
+      EdgeFaces& ef = edges[{u, v}];
+      ef.a = u;
+      ef.b = v;
+      (ef.faces[0] < 0 ? ef.faces[0] : ef.faces[1]) = int(t);
+    }
+  }
+  const Real radius = std::abs(normalOffset);
+  for (auto& [key, ef] : edges) {
+    if (ef.faces[1] < 0) continue;
+    const Vector3r n1 = normals[ef.faces[0]], n2 = normals[ef.faces[1]];
+    const Real angle = std::acos(std::clamp<Real>(n1.dot(n2), -1, 1));
+    if (angle < Real(0.05)) continue;  // flat: the faces' own samples meet
+    const bool convex = (centroids[ef.faces[1]] - centroids[ef.faces[0]]).dot(n1) < 0;
+    if (convex != (normalOffset > 0)) continue;  // the moved faces overlap here, no gap
+    const Vector3r a = mesh.vertices[ef.a], b = mesh.vertices[ef.b];
+    const Real sign = normalOffset > 0 ? 1 : -1;
+    const int along = std::max(1, int(std::ceil((b - a).norm() / spacing)));
+    const int around = std::max(1, int(std::ceil(angle * radius / spacing)));
+    for (int i = 0; i <= along; ++i)
+      for (int j = 1; j < around; ++j) {
+        const Real w = Real(j) / around;
+        const Vector3r n = ((1 - w) * n1 + w * n2).normalized();
+        points.push_back(a + (b - a) * (Real(i) / along) + sign * radius * n);
+      }
+  }
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    if (vertexNormals[v].norm() > 0) points.push_back(mesh.vertices[v] + normalOffset * vertexNormals[v].normalized());
 }
 
 std::vector<Vector3r> sampleBoxSurface(const Vector3r& lo, const Vector3r& hi, Real spacing) {
@@ -65,6 +167,60 @@ std::vector<Vector3r> sampleBoxSurface(const Vector3r& lo, const Vector3r& hi, R
       }
     }
   return points;
+}
+
+}  // namespace consph
+
+namespace consph {
+
+Vector3r closestPointOnTriangle(const Vector3r& p, const Vector3r& a, const Vector3r& b, const Vector3r& c) {
+  // Voronoi regions of the vertices, edges and face (C. Ericson, Real-Time Collision Detection, 5.1.5).
+  const Vector3r ab = b - a, ac = c - a, ap = p - a;
+  const Real d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vector3r bp = p - b;
+  const Real d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const Real vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Vector3r cp = p - c;
+  const Real d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const Real vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const Real va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const Real denom = Real(1) / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+void dropPointsNearerThan(const TriangleMesh& mesh, const std::vector<Real>& distances, std::vector<Vector3r>& points) {
+  // Moved faces overlap where the offset side is concave (a body's edges, moved inwards): their
+  // points beyond the overlap sit closer to the neighbouring face than they were moved.
+  std::vector<Vector3r> centres(mesh.triangles.size());
+  std::vector<Real> radii(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    centres[t] = (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3;
+    radii[t] = std::max({(mesh.vertices[tri[0]] - centres[t]).norm(), (mesh.vertices[tri[1]] - centres[t]).norm(),
+                         (mesh.vertices[tri[2]] - centres[t]).norm()});
+  }
+  std::vector<char> keep(points.size(), 1);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(points.size()); ++i) {
+    const Vector3r& p = points[i];
+    const Real distance = Real(0.98) * distances[i];
+    for (std::size_t t = 0; t < mesh.triangles.size() && keep[i]; ++t) {
+      if ((p - centres[t]).norm() - radii[t] >= distance) continue;
+      const auto& tri = mesh.triangles[t];
+      if ((p - closestPointOnTriangle(p, mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]])).norm() < distance)
+        keep[i] = 0;
+    }
+  }
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (keep[i]) points[n++] = points[i];
+  points.resize(n);
 }
 
 }  // namespace consph

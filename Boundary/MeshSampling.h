@@ -8,8 +8,21 @@
 namespace consph {
 
 // A regular lattice on every triangle, then points closer than 0.6 spacing merged, so shared
-// edges and tiny triangles do not produce clusters.
-std::vector<Vector3r> sampleMeshSurface(const TriangleMesh& mesh, Real spacing);
+// edges and tiny triangles do not produce clusters. Each triangle's points are moved by
+// `normalOffset` along its unit normal (the winding's: counter-clockwise seen from the tip), at
+// most half the way to the next surface behind them (thin parts keep a mid-plane layer); moved
+// faces are closed at convex creases and trimmed where they overlap.
+std::vector<Vector3r> sampleMeshSurface(const TriangleMesh& mesh, Real spacing, Real normalOffset = 0);
+
+// Closes the strips and corner holes that moving triangles apart by `normalOffset` opens
+// along convex creases: arcs of radius |normalOffset| about the crease, a point per vertex.
+void addCreaseSamples(const TriangleMesh& mesh, Real spacing, Real normalOffset, std::vector<Vector3r>& points);
+
+// Removes every point closer than 0.98 distances[i] to some triangle.
+void dropPointsNearerThan(const TriangleMesh& mesh, const std::vector<Real>& distances, std::vector<Vector3r>& points);
+
+// The point of triangle abc closest to p.
+Vector3r closestPointOnTriangle(const Vector3r& p, const Vector3r& a, const Vector3r& b, const Vector3r& c);
 
 // Regular grids on the six faces of the box [lo, hi], edges and corners once.
 std::vector<Vector3r> sampleBoxSurface(const Vector3r& lo, const Vector3r& hi, Real spacing);

@@ -1,35 +1,135 @@
 #include "Boundary/ParticleBoundary_Akinci2012.h"
 
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+
+#include "Boundary/MassProperties.h"
 #include "Boundary/MeshSampling.h"
 #include "Simulation/PluginRegistry.h"
 
 namespace consph {
 
 namespace {
+
+// The box sampled for an axis-aligned box object: shrunk by `offset` (a body) or grown (a
+// container). A body thinner than offset + one sampling distance keeps one sample spacing of
+// thickness around its mid-plane instead of turning inside out.
+Vector3r offsetBox(const BoundaryObject& o, Real offset, Real spacing, bool lower) {
+  Vector3r lo = o.boxMin, hi = o.boxMax;
+  for (int a = 0; a < 3; ++a) {
+    Real shift = o.inverted ? -offset : offset;
+    if (!o.inverted) shift = std::min(shift, std::max(Real(0), Real(0.5) * (hi[a] - lo[a] - spacing)));
+    lo[a] += shift;
+    hi[a] -= shift;
+  }
+  return lower ? lo : hi;
+}
+
+// Signed offset along the triangles' winding normals that moves samples into the solid. The
+// winding normals point out of a body and, for a container (whose triangles were flipped when
+// loaded), into it; a mesh whose signed volume says it is inside out is handled the other way.
+// An open mesh (no enclosed volume) is sampled on its surface.
+Real meshNormalOffset(const BoundaryObject& o, Real offset) {
+  const Real volume = computeMassProperties(o.mesh).volume;
+  Vector3r lo, hi;
+  o.mesh.boundingBox(lo, hi);
+  if (std::abs(volume) < Real(1e-6) * (hi - lo).prod()) return 0;
+  const bool outward = (volume > 0) != o.inverted;  // winding normals point away from the solid
+  return outward ? -offset : offset;
+}
+
 const PluginRegistration<BoundaryModel> registration{
     "Akinci2012",
     "Particle boundaries: surfaces sampled with particles of volume 1 / sum W (Akinci et al. 2012)",
     ParticleBoundary_Akinci2012::parameters(),
     [](const Params& p, const PluginContext& c) -> std::unique_ptr<BoundaryModel> {
-      return std::make_unique<ParticleBoundary_Akinci2012>(p, c.particleRadius);
+      const Real spacing = c.particleSpacing > 0 ? c.particleSpacing : Real(1.8566) * c.particleRadius;
+      auto model = std::make_unique<ParticleBoundary_Akinci2012>(p, c.particleRadius, spacing);
+      model->setLog(c.log);
+      return model;
     }};
 }  // namespace
 
 std::vector<ParamSpec> ParticleBoundary_Akinci2012::parameters() {
   return {{"samplingDistance", ParamType::Real, 1.0,
-           "distance between boundary particles on the surface, in particle radii r", 0.25, 4.0}};
+           "distance between boundary particles on the surface, in particle radii r", 0.25, 4.0},
+          {"surfaceOffset", ParamType::Real, -1.0,
+           "distance the sample layer is moved into the solid, in r; -1: computed so the resting fluid's "
+           "surface lies on the mesh; 0: samples on the mesh (Akinci 2012)",
+           -1.0, 4.0},
+          {"offsetObjects", ParamType::String, "moving",
+           "which objects get the surface offset: moving (dynamic and animated bodies, whose buoyancy depends on "
+           "it), all, or none",
+           -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"moving", "all", "none"}}};
 }
 
-ParticleBoundary_Akinci2012::ParticleBoundary_Akinci2012(const Params& params, Real particleRadius)
-    : samplingDistance_(params.real("samplingDistance") * particleRadius) {}
+ParticleBoundary_Akinci2012::ParticleBoundary_Akinci2012(const Params& params, Real particleRadius, Real fluidSpacing)
+    : particleRadius_(particleRadius),
+      samplingDistance_(params.real("samplingDistance") * particleRadius),
+      fluidSpacing_(fluidSpacing),
+      requestedOffset_(params.real("surfaceOffset") < 0 ? Real(-1) : params.real("surfaceOffset") * particleRadius),
+      offsetObjects_(params.string("offsetObjects")) {}
+
+Real ParticleBoundary_Akinci2012::restDistance(const CubicSplineKernel& kernel, Real samplingDistance, Real fluidSpacing) {
+  const Real h = kernel.supportRadius(), s = samplingDistance, d = fluidSpacing;
+  // A flat layer z = 0 sampled on a square grid, the sample at the origin's mass (rho0 = 1).
+  const int nw = int(std::ceil(h / s)) + 2;
+  Real wallSum = 0;
+  for (int i = -nw; i <= nw; ++i)
+    for (int j = -nw; j <= nw; ++j) wallSum += kernel.W(Vector3r(i * s, j * s, 0));
+  const Real sampleMass = Real(1) / wallSum;
+  // The fluid half-lattice's share of the density of a particle in its first layer.
+  const int nf = int(std::ceil(h / d)) + 1;
+  Real fluidDensity = 0;
+  for (int i = -nf; i <= nf; ++i)
+    for (int j = -nf; j <= nf; ++j)
+      for (int k = 0; k <= nf; ++k) fluidDensity += d * d * d * kernel.W(Vector3r(i * d, j * d, k * d));
+  // The wall's share at height z, averaged over where the particle sits above the sample grid.
+  auto wallDensity = [&](Real z) {
+    Real sum = 0;
+    int count = 0;
+    for (Real a : {Real(0), Real(0.25), Real(0.5)})
+      for (Real b : {Real(0), Real(0.25), Real(0.5)}) {
+        const Vector3r x(a * s, b * s, z);
+        for (int i = -nw; i <= nw; ++i)
+          for (int j = -nw; j <= nw; ++j) sum += sampleMass * kernel.W(x - Vector3r(i * s, j * s, 0));
+        ++count;
+      }
+    return sum / count;
+  };
+  if (fluidDensity + wallDensity(0) <= 1) return 0;  // not reached for any admissible spacing
+  if (fluidDensity >= 1) return h;
+  Real lo = 0, hi = h;  // the wall's share falls with z
+  for (int it = 0; it < 60; ++it) {
+    const Real mid = Real(0.5) * (lo + hi);
+    (fluidDensity + wallDensity(mid) > 1 ? lo : hi) = mid;
+  }
+  return Real(0.5) * (lo + hi);
+}
 
 void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& objects, Real density0,
                                              const CubicSplineKernel& kernel) {
   samples_ = BoundarySamples();
+  surfaceOffset_ = requestedOffset_ >= 0
+                       ? requestedOffset_
+                       : std::max(Real(0), restDistance(kernel, samplingDistance_, fluidSpacing_) - Real(0.5) * fluidSpacing_);
+  const bool anyOffset = std::any_of(objects.begin(), objects.end(), [&](const BoundaryObject& o) {
+    return offsetObjects_ == "all" || (offsetObjects_ == "moving" && o.motion != BodyMotion::Static);
+  });
+  if (requestedOffset_ < 0 && anyOffset && log_) {
+    char line[200];
+    std::snprintf(line, sizeof(line), "Akinci2012: sample layers of %s objects %.3g r inside the solids (the resting fluid's surface on the meshes)",
+                  offsetObjects_.c_str(), double(surfaceOffset_ / particleRadius_));
+    log_(LogLevel::Info, line);
+  }
   for (std::size_t b = 0; b < objects.size(); ++b) {
     const BoundaryObject& o = objects[b];
-    std::vector<Vector3r> points = o.isBox ? sampleBoxSurface(o.boxMin, o.boxMax, samplingDistance_)
-                                           : sampleMeshSurface(o.mesh, samplingDistance_);
+    const bool offsetThis = offsetObjects_ == "all" || (offsetObjects_ == "moving" && o.motion != BodyMotion::Static);
+    const Real offset = offsetThis ? surfaceOffset_ : Real(0);
+    std::vector<Vector3r> points = o.isBox ? sampleBoxSurface(offsetBox(o, offset, samplingDistance_, true),
+                                                              offsetBox(o, offset, samplingDistance_, false), samplingDistance_)
+                                           : sampleMeshSurface(o.mesh, samplingDistance_, meshNormalOffset(o, offset));
     // Z-order within the object: neighbours in space become neighbours in memory.
     const auto order = zOrderPermutation(points.data(), points.size(), kernel.supportRadius());
     const std::size_t base = samples_.size();

@@ -3,6 +3,17 @@
 //   for incompressible SPH. ACM Transactions on Graphics 31(4), 2012.
 // Boundary surfaces are sampled with particles; particle k gets the volume
 // V_k = 1 / sum_l W_kl over the particles l of the same object, and the mass m~_k = rho0 V_k.
+//
+// Where the sample layer sits: a resting fluid keeps its first particle layer at the distance D
+// from a sample layer at which that layer has rest density (about one lattice spacing d), and a
+// lattice particle fills the cube of side d around its centre, so samples on the mesh leave a
+// gap of D - d/2 of missing fluid around every object: a floating body displaces that much
+// more and floats too high (the often reported need for bodies several times denser than water
+// to sink). By default the layers of moving bodies are moved D - d/2 into the solid, computed
+// for the scene's kernel, sampling and lattice (restDistance), so the fluid's surface lies on
+// their meshes. Static objects keep their samples on the mesh unless `offsetObjects` is "all":
+// for a container the gap only narrows it by about one radius per wall, and the bundled scenes
+// and validation tests place their fluid for samples on the mesh.
 #pragma once
 #include "Simulation/BoundaryModel.h"
 #include "Simulation/Params.h"
@@ -11,14 +22,28 @@ namespace consph {
 
 class ParticleBoundary_Akinci2012 final : public BoundaryModel {
  public:
-  ParticleBoundary_Akinci2012(const Params& params, Real particleRadius);
+  ParticleBoundary_Akinci2012(const Params& params, Real particleRadius, Real fluidSpacing);
   void initialize(const std::vector<BoundaryObject>& objects, Real density0, const CubicSplineKernel& kernel) override;
   void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
 
   static std::vector<ParamSpec> parameters();
 
+  // D: the distance from a flat sample layer (spacing `samplingDistance`) at which the first
+  // layer of a fluid lattice of spacing `fluidSpacing` has rest density (bisection).
+  static Real restDistance(const CubicSplineKernel& kernel, Real samplingDistance, Real fluidSpacing);
+
+  // The distance the sample layer is moved into the solid (m), after initialize().
+  Real surfaceOffset() const { return surfaceOffset_; }
+  void setLog(const LogSink& log) { log_ = log; }
+
  private:
+  Real particleRadius_;
   Real samplingDistance_;  // m
+  Real fluidSpacing_;      // m, the fluid lattice spacing d
+  Real requestedOffset_;   // m; negative: computed, D - d/2
+  std::string offsetObjects_;  // "moving", "all" or "none"
+  Real surfaceOffset_ = 0; // m, in effect
+  LogSink log_;
   PointGrid grid_;
 };
 

@@ -20,7 +20,8 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
   initializeFluid();
   dropParticlesInsideBodies();
 
-  const PluginContext context{fluid_.get(), scene_.particleRadius, kernel_.supportRadius(), log_};
+  const PluginContext context{fluid_.get(), scene_.particleRadius, kernel_.supportRadius(), log_,
+                              scene_.particleSpacing * scene_.particleRadius};
   boundaryModel_ = plugins_.boundaryModels.create(scene_.boundaryModel["type"].get<std::string>(), scene_.boundaryModel,
                                                   "simulation.boundaryModel", context, log_);
   boundaryModel_->initialize(scene_.boundaries, fluid_->density0(), kernel_);

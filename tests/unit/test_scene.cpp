@@ -111,17 +111,26 @@ TEST(Scene, MissingMeshFileIsAnErrorNamingTheFile) {
 }
 
 TEST(Scene, MeshBoundaryLoadsAndIsTransformed) {
-  json s = minimalScene();
-  s["boundaries"] = {{{"mesh", CONSPH_TEST_DATA_DIR "/meshes/UnitBox.obj"}, {"scale", {0.6, 1.0, 0.6}},
-                      {"translation", {0.3, 0.5, 0.3}}, {"inverted", true}}};
-  auto sim = test::simulationFromJson(s);
-  Vector3r lo = Vector3r::Constant(1e9), hi = -lo;
-  for (auto& x : sim->boundary().positions) {
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
+  // With the sample layer on the mesh (surfaceOffset 0) the samples span the transformed box;
+  // with the computed offset on every object, the layer sits outside this container, equally
+  // on every side.
+  for (double offset : {0.0, -1.0}) {
+    json s = minimalScene();
+    s["simulation"]["boundaryModel"] = {{"type", "Akinci2012"}, {"surfaceOffset", offset}, {"offsetObjects", "all"}};
+    s["boundaries"] = {{{"mesh", CONSPH_TEST_DATA_DIR "/meshes/UnitBox.obj"}, {"scale", {0.6, 1.0, 0.6}},
+                        {"translation", {0.3, 0.5, 0.3}}, {"inverted", true}}};
+    auto sim = test::simulationFromJson(s);
+    Vector3r lo = Vector3r::Constant(1e9), hi = -lo;
+    for (auto& x : sim->boundary().positions) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+    const Real grown = -lo[0];
+    if (offset == 0) EXPECT_LT(std::abs(grown), 1e-6);
+    else EXPECT_TRUE(grown > 0.5 * 0.05 && grown < 2 * 0.05) << grown;
+    EXPECT_LT((lo - Vector3r::Constant(-grown)).norm(), 1e-6);
+    EXPECT_LT((hi - Vector3r(Real(0.6), 1, Real(0.6)) - Vector3r::Constant(grown)).norm(), 1e-6);
   }
-  EXPECT_LT((lo - Vector3r(0, 0, 0)).norm(), 1e-6);
-  EXPECT_LT((hi - Vector3r(Real(0.6), 1, Real(0.6))).norm(), 1e-6);
 }
 
 TEST(Scene, OverridesSetAnyValueByDottedPath) {
