@@ -114,9 +114,7 @@ void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& 
   surfaceOffset_ = requestedOffset_ >= 0
                        ? requestedOffset_
                        : std::max(Real(0), restDistance(kernel, samplingDistance_, fluidSpacing_) - Real(0.5) * fluidSpacing_);
-  const bool anyOffset = std::any_of(objects.begin(), objects.end(), [&](const BoundaryObject& o) {
-    return offsetObjects_ == "all" || (offsetObjects_ == "moving" && o.motion != BodyMotion::Static);
-  });
+  const bool anyOffset = std::any_of(objects.begin(), objects.end(), [&](const BoundaryObject& o) { return offsets(o); });
   if (requestedOffset_ < 0 && anyOffset && log_) {
     char line[200];
     std::snprintf(line, sizeof(line), "Akinci2012: sample layers of %s objects %.3g r inside the solids (the resting fluid's surface on the meshes)",
@@ -125,8 +123,7 @@ void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& 
   }
   for (std::size_t b = 0; b < objects.size(); ++b) {
     const BoundaryObject& o = objects[b];
-    const bool offsetThis = offsetObjects_ == "all" || (offsetObjects_ == "moving" && o.motion != BodyMotion::Static);
-    const Real offset = offsetThis ? surfaceOffset_ : Real(0);
+    const Real offset = offsets(o) ? surfaceOffset_ : Real(0);
     std::vector<Vector3r> points = o.isBox ? sampleBoxSurface(offsetBox(o, offset, samplingDistance_, true),
                                                               offsetBox(o, offset, samplingDistance_, false), samplingDistance_)
                                            : sampleMeshSurface(o.mesh, samplingDistance_, meshNormalOffset(o, offset));
@@ -150,6 +147,10 @@ void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& 
     }
   }
   moved_ = true;
+}
+
+bool ParticleBoundary_Akinci2012::offsets(const BoundaryObject& o) const {
+  return offsetObjects_ == "all" || (offsetObjects_ == "moving" && o.motion != BodyMotion::Static);
 }
 
 void ParticleBoundary_Akinci2012::findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) {

@@ -37,6 +37,8 @@ class ParticleBoundary_Akinci2012 final : public BoundaryModel {
   void setLog(const LogSink& log) { log_ = log; }
 
  private:
+  bool offsets(const BoundaryObject& o) const;  // does o's layer move into the solid?
+
   Real particleRadius_;
   Real samplingDistance_;  // m
   Real fluidSpacing_;      // m, the fluid lattice spacing d
