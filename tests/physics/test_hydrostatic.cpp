@@ -9,6 +9,75 @@
 
 using namespace consph;
 
+namespace {
+
+// Pressure against rho0 g (depth) in a resting column, time-averaged from t = 1 s to 2 s in 10 cm
+// depth bins 20-70 cm below the surface and as a least-squares line, for particles at least 4r
+// from the side walls.
+struct PressureProfile {
+  static constexpr int bins = 5;
+  double ratio[bins] = {};      // mean p / (rho0 g mean depth) per bin
+  double slope = 0;             // dp/d(depth) / (rho0 g)
+  double intercept = 0;         // p at the surface, Pa
+  Real worstConverged = 0;      // the solver's worst predicted density error
+  double trueDensityError = 0;  // average relative density error on the positions after each step
+  bool hitIterationCap = false;
+};
+
+PressureProfile measurePressureProfile(Simulation& sim, Real boxWidth) {
+  const FluidModel& f = sim.fluid();
+  const Real r = sim.scene().particleRadius, rho0 = f.density0(), g = Real(9.81);
+  const Real halfSpacing = Real(0.5) * sim.scene().particleSpacing * r;
+  std::size_t topLayer = 0;  // particles in the initial top layer
+  Real initialTop = -1e30;
+  for (auto& x : f.positions) initialTop = std::max(initialTop, x[1]);
+  for (auto& x : f.positions) topLayer += x[1] > initialTop - halfSpacing;
+
+  sim.run(Real(1.0));  // settle
+  const double errorSumBefore = sim.stats().densityErrorSum;
+  const std::size_t samplesBefore = sim.stats().densityErrorSamples;
+  PressureProfile out;
+  double pSum[PressureProfile::bins] = {}, depthSum[PressureProfile::bins] = {};
+  int count[PressureProfile::bins] = {};
+  double fitN = 0, fitD = 0, fitP = 0, fitDD = 0, fitDP = 0;  // least squares p = a depth + b
+  while (sim.time() < 2 - Real(1e-6)) {
+    sim.step();
+    const auto& s = sim.pressureSolver().stats();
+    out.hitIterationCap |= s.hitIterationCap;
+    out.worstConverged = std::max(out.worstConverged, s.densityError);
+    if (sim.stepCount() % 5) continue;
+    const Real surface = test::surfaceHeight(f, topLayer, halfSpacing);
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      const Vector3r& x = f.positions[i];
+      const int bin = int(std::floor((surface - x[1] - Real(0.2)) / Real(0.1)));
+      if (bin < 0 || bin >= PressureProfile::bins) continue;
+      if (std::min(x[0], x[2]) < 4 * r || std::max(x[0], x[2]) > boxWidth - 4 * r) continue;
+      const double depth = surface - x[1], p = f.pressures[i];
+      pSum[bin] += p;
+      depthSum[bin] += depth;
+      ++count[bin];
+      fitN += 1;
+      fitD += depth;
+      fitP += p;
+      fitDD += depth * depth;
+      fitDP += depth * p;
+    }
+  }
+  for (int b = 0; b < PressureProfile::bins; ++b) {
+    EXPECT_GT(count[b], 50);
+    out.ratio[b] = count[b] ? pSum[b] / (rho0 * g * depthSum[b]) : 0;
+    std::printf("hydrostatic: depth %.2f m: p / (rho0 g depth) = %.4f\n", count[b] ? depthSum[b] / count[b] : 0, out.ratio[b]);
+  }
+  out.trueDensityError = (sim.stats().densityErrorSum - errorSumBefore) / double(sim.stats().densityErrorSamples - samplesBefore);
+  const double slope = (fitN * fitDP - fitD * fitP) / (fitN * fitDD - fitD * fitD);
+  out.slope = slope / (rho0 * g);
+  out.intercept = (fitP - slope * fitD) / fitN;
+  std::printf("hydrostatic: dp/d(depth) = %.4f rho0 g, p(surface) = %.1f Pa\n", out.slope, out.intercept);
+  return out;
+}
+
+}  // namespace
+
 class Hydrostatic : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(Hydrostatic, ColumnAtRestDFSPH) {
@@ -22,67 +91,21 @@ TEST_P(Hydrostatic, ColumnAtRestDFSPH) {
   const std::size_t n0 = sim->fluid().size();
   const FluidModel& f = sim->fluid();
   const Real halfSpacing = Real(0.5) * sim->scene().particleSpacing * r;
-  std::size_t topLayer = 0;  // particles in the initial top layer
-  Real initialTop = -1e30;
-  for (auto& x : f.positions) initialTop = std::max(initialTop, x[1]);
-  for (auto& x : f.positions) topLayer += x[1] > initialTop - halfSpacing;
-
-  // Settle for 1 s, then measure over the second second.
-  sim->run(Real(1.0));
-  const double errorSumBefore = sim->stats().densityErrorSum;
-  const std::size_t samplesBefore = sim->stats().densityErrorSamples;
-  Real worstConverged = 0;
-  // Pressure against rho0 g (depth), time-averaged over the second second in 10 cm depth bins
-  // (within 3 %: single bins carry the noise of a column that is still rearranging) and as a
-  // least-squares line (within 2 %), for particles at least 4r from the side walls, 20 to 70 cm
-  // below the surface.
-  constexpr int bins = 5;
-  double pSum[bins] = {}, depthSum[bins] = {};
-  int count[bins] = {};
-  double fitN = 0, fitD = 0, fitP = 0, fitDD = 0, fitDP = 0;  // least squares p = a depth + b
-  while (sim->time() < 2 - Real(1e-6)) {
-    sim->step();
-    const auto& s = sim->pressureSolver().stats();
-    ASSERT_FALSE(s.hitIterationCap);
-    worstConverged = std::max(worstConverged, s.densityError);
-    if (sim->stepCount() % 5) continue;
-    const Real surface = test::surfaceHeight(f, topLayer, halfSpacing);
-    for (std::size_t i = 0; i < f.size(); ++i) {
-      const Vector3r& x = f.positions[i];
-      const int bin = int(std::floor((surface - x[1] - Real(0.2)) / Real(0.1)));
-      if (bin < 0 || bin >= bins) continue;
-      if (std::min(x[0], x[2]) < 4 * r || std::max(x[0], x[2]) > boxWidth - 4 * r) continue;
-      const double depth = surface - x[1], p = f.pressures[i];
-      pSum[bin] += p;
-      depthSum[bin] += depth;
-      ++count[bin];
-      fitN += 1;
-      fitD += depth;
-      fitP += p;
-      fitDD += depth * depth;
-      fitDP += depth * p;
-    }
-  }
-  for (int b = 0; b < bins; ++b) {
-    ASSERT_GT(count[b], 50);
-    const double expected = rho0 * g * depthSum[b] / count[b];
-    std::printf("hydrostatic: depth %.2f m: p / (rho0 g depth) = %.4f\n", depthSum[b] / count[b], pSum[b] / count[b] / expected);
-    EXPECT_NEAR(pSum[b] / count[b], expected, 0.03 * expected) << "depth bin " << 0.2 + 0.1 * b << " m";
-  }
-  // The hydrostatic law over 20-70 cm depth: dp/d(depth) = rho0 g within 2 %, and p = 0 at the
-  // surface within one particle spacing.
-  const double slope = (fitN * fitDP - fitD * fitP) / (fitN * fitDD - fitD * fitD);
-  const double intercept = (fitP - slope * fitD) / fitN;
-  std::printf("hydrostatic: dp/d(depth) = %.4f rho0 g, p(surface) = %.1f Pa\n", slope / (rho0 * g), intercept);
-  EXPECT_NEAR(slope, rho0 * g, 0.02 * rho0 * g);
-  EXPECT_LT(std::abs(intercept), rho0 * g * 2 * halfSpacing);
+  // Settle for 1 s, then measure over the second second: single 10 cm bins within 3 % (they
+  // carry the noise of a column that is still rearranging), the fitted line within 2 %, p = 0 at
+  // the surface within one particle spacing.
+  const PressureProfile profile = measurePressureProfile(*sim, boxWidth);
+  ASSERT_FALSE(profile.hitIterationCap);
+  const Real worstConverged = profile.worstConverged;
+  for (int b = 0; b < PressureProfile::bins; ++b) EXPECT_NEAR(profile.ratio[b], 1, 0.03) << "depth bin " << 0.2 + 0.1 * b << " m";
+  EXPECT_NEAR(profile.slope, 1, 0.02);
+  EXPECT_LT(std::abs(profile.intercept), rho0 * g * 2 * halfSpacing);
 
   // The solver's (predicted) average density error is within its tolerance every step ...
   EXPECT_LE(worstConverged, tolerance);
   // ... and the true one, measured on the positions after each step, stays within 10 % of it
   // (the solver predicts the density to first order in dt).
-  const double trueAverage =
-      (sim->stats().densityErrorSum - errorSumBefore) / double(sim->stats().densityErrorSamples - samplesBefore);
+  const double trueAverage = profile.trueDensityError;
   EXPECT_LT(trueAverage, 1.1 * tolerance) << "true average density error " << 100 * trueAverage << " %";
 
   ASSERT_EQ(f.size(), n0);
@@ -108,12 +131,46 @@ TEST_P(Hydrostatic, ColumnAtRestDFSPH) {
 INSTANTIATE_TEST_SUITE_P(Treatments, Hydrostatic, ::testing::Values("consistent"),
                          [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
 
-// The same column with the other two treatments does not meet these criteria today (measured
-// 2026-11-23, double, 2 threads; run with --gtest_also_run_disabled_tests):
+// The same narrow column (10 particles across) with the other two treatments does not meet these
+// criteria today (measured 2026-11-23, double, 2 threads; run with --gtest_also_run_disabled_tests):
 //  - mirroring: dp/d(depth) = 1.049 rho0 g, every depth bin 5.3-6.1 % high (the mirrored wall
 //    pressure holds the column off the walls and the interior pressure reads high);
 //  - extrapolation: dp/d(depth) = 1.006 rho0 g, bins 1.8-3.6 % high, but not at rest: mean
 //    speed 1.7 cm/s, interior maximum 17 cm/s at t = 2 s.
 // Kept as a disabled instance so the criterion stays visible and runnable, not loosened.
 INSTANTIATE_TEST_SUITE_P(DISABLED_OtherTreatments, Hydrostatic, ::testing::Values("mirroring", "extrapolation"),
+                         [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
+
+// The pressure criterion for every treatment, in a column wide enough to have an
+// interior: 1 m of water in a 1 m wide tank (20 particles across instead of 10), the same bins
+// and line as above, 20-70 cm deep and 4r from the walls. In the narrow column mirroring reads
+// 5 % high everywhere because no particle is further than 5r from a wall.
+class HydrostaticPressure : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(HydrostaticPressure, AtDepthIsRho0GHInAWideColumn) {
+  json scene = readJsonFile(test::dataPath("scenes/Hydrostatic.json"));
+  scene["simulation"]["boundaryPressure"] = GetParam();
+  const double width = 1.0, gap = scene["fluids"][0]["blocks"][0]["min"][0].get<double>();
+  scene["boundaries"][0]["box"]["max"] = {width, 1.5, width};
+  scene["fluids"][0]["blocks"][0]["max"][0] = width - gap;
+  scene["fluids"][0]["blocks"][0]["max"][2] = width - gap;
+  std::printf("hydrostatic: boundary pressure %s, 1 m wide\n", GetParam());
+  auto sim = test::simulationFromJson(scene);
+  ASSERT_EQ(sim->fluid().size(), 20u * 21u * 20u);
+  const PressureProfile profile = measurePressureProfile(*sim, Real(width));
+  EXPECT_FALSE(profile.hitIterationCap);
+  for (int b = 0; b < PressureProfile::bins; ++b) EXPECT_NEAR(profile.ratio[b], 1, 0.03) << "depth bin " << 0.2 + 0.1 * b << " m";
+  EXPECT_NEAR(profile.slope, 1, 0.02);
+  EXPECT_EQ(sim->stats().particlesLost, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Treatments, HydrostaticPressure, ::testing::Values("extrapolation"),
+                         [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
+
+// Measured in this wide column (2026-11-23, double, 2 threads): every treatment reads high by
+// about 2 % at r = 0.025 (the discrete SPH gradient of a disordered fluid at h = 2.15 lattice
+// spacings); extrapolation: slope 1.0052, bins 1.012-1.024 (enabled above); consistent: slope
+// 1.0196, bins 1.020-1.026, inside the bounds by less than 0.1 % (the narrow-column test above is
+// its enabled check: 1.0147); mirroring: slope 1.0245, bins 1.027-1.032 - fails.
+INSTANTIATE_TEST_SUITE_P(DISABLED_TooCloseToCall, HydrostaticPressure, ::testing::Values("consistent", "mirroring"),
                          [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
