@@ -1,6 +1,7 @@
 #include "Plugins/Pressure/BoundaryPressureTreatment.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 
 namespace consph {
 
@@ -88,6 +89,23 @@ void BoundaryPressureTreatment::computeMlsCoefficients(const StepContext& ctx) {
       mlsCoefficients_[e] *= invSumW * (Real(1) + (f.positions[t.indices[e]] - xBar).dot(slope));
   }
   fallbacks_ = fallbacks;
+
+  // h_i = sum_k m~_k c_ki grad W_ik: how the boundary term of a_i^p moves with p_i through the
+  // extrapolated p_k (each k's list holds its fluid neighbours in ascending order).
+  const NeighborLists& bn = ctx.boundaryNeighbors;
+  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  extrapolationGradient_.resize(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    Vector3r h = Vector3r::Zero();
+    for (Index e = bn.begin(i); e < bn.end(i); ++e) {
+      const Index k = bn.indices[e];
+      const auto first = t.indices.begin() + t.begin(k), last = t.indices.begin() + t.end(k);
+      const auto slot = std::lower_bound(first, last, Index(i));
+      h += (b.masses[k] * mlsCoefficients_[std::size_t(slot - t.indices.begin())]) * bn.gradW[e];
+    }
+    extrapolationGradient_[i] = h;
+  }
 }
 
 void BoundaryPressureTreatment::resetBoundaryPressures() {

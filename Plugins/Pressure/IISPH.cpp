@@ -50,8 +50,9 @@ void IISPH::prepare(StepContext& ctx) {
     source_[i] = (rho0 - rhoI - dt * densityRate(ctx, i)) / dt;
     // A_ii = -dt / rho_i^2 (|sum_j m_j grad W_ij + g_i|^2 + sum_j m_i m_j |grad W_ij|^2 [+ Eq. 15's term]).
     Vector3r sumGrad = treatment_.boundaryGradient(i);
-    Real squares = treatment_.diagonalTerm(i);
+    Real squares = treatment_.extrapolates() ? Real(0) : treatment_.diagonalTerm(i);
     fluidDiagonalSums(ctx, i, sumGrad, squares);
+    if (treatment_.extrapolates()) squares += treatment_.extrapolationDiagonalTerm(i, sumGrad, rhoI);
     const Real d = sumGrad.squaredNorm() + squares;
     omegaOverA_[i] = d > Real(1e-9) ? -omega * rhoI * rhoI / (dt * d) : Real(0);
     f.pressures[i] = omegaOverA_[i] != 0 ? start * f.pressures[i] : Real(0);
