@@ -60,8 +60,6 @@ double submergedFraction(const RigidBody& body, const Vector3r& size, Real level
   return double(below) / (double(n) * n * n);
 }
 
-}  // namespace
-
 // A box of density rho_b floats with the fraction rho_b / rho0 of its volume under the free
 // surface (Archimedes). The box is twice as wide as tall, so it floats face-up at every density
 // (a cube of 0.3 or 0.5 rho0 is unstable face-up and tilts by ~45 degrees); the submerged volume
@@ -76,11 +74,14 @@ double submergedFraction(const RigidBody& body, const Vector3r& size, Real level
 // (0.184 / 0.424 / 0.749), so the error converges with resolution. Samples on the mesh (the
 // Akinci 2012 default elsewhere) gave 0.024 / 0.152 / 0.358 for a 10 r cube. Asserted: within
 // 0.03 of rho_b / rho0 (3 percentage points); the relative 3 % holds for 0.8 only
-// (-9.6 %, -5.7 %, -2.4 %): a free surface is not defined to a tenth of a particle radius.
-class Buoyancy : public ::testing::TestWithParam<double> {};
+// (-9.6 %, -5.7 %, -2.4 %): a free surface is not defined to a tenth of a particle radius. What
+// does not depend on the surface, the growth of the draft with the density, is asserted to 3 %.
+struct Floating {
+  double fraction = 0;  // submerged volume fraction, averaged over t = 2..3 s
+  double maxSpeed = 0;  // of the body over that second
+};
 
-TEST_P(Buoyancy, SubmergedFractionIsDensityRatio) {
-  const double ratio = GetParam();
+Floating floatBox(double ratio) {
   const double r = 0.01, d = 1.8566 * r, side = 0.24, height = 0.12, W = 0.6, depth = 0.3;
   const double bottom = depth - ratio * height;
   const Vector3r size(side, height, side);
@@ -114,11 +115,26 @@ TEST_P(Buoyancy, SubmergedFractionIsDensityRatio) {
   std::printf("[ buoyancy ] rho_b/rho0 = %.2f: submerged fraction %.4f (%+.2f %%), level %.4f m, tilt %.1f deg, body speed <= %.3f m/s\n",
               ratio, fraction, 100 * (fraction - ratio) / ratio, sumLevel / n,
               double(2 * std::acos(std::min<Real>(1, std::abs(body.q.w()))) * 180 / std::numbers::pi), maxSpeed);
-  EXPECT_NEAR(fraction, ratio, 0.03);
-  EXPECT_LT(maxSpeed, 0.05);  // at rest, up to a small heave
+  return {fraction, maxSpeed};
 }
 
-INSTANTIATE_TEST_SUITE_P(RigidBodies, Buoyancy, ::testing::Values(0.3, 0.5, 0.8));
+}  // namespace
+
+TEST(RigidBodies, BuoyancySubmergedFractionIsDensityRatio) {
+  const double ratios[3] = {0.3, 0.5, 0.8};
+  Floating f[3];
+  for (int i = 0; i < 3; ++i) {
+    f[i] = floatBox(ratios[i]);
+    EXPECT_NEAR(f[i].fraction, ratios[i], 0.03) << "rho_b / rho0 = " << ratios[i];
+    EXPECT_LT(f[i].maxSpeed, 0.05);  // at rest, up to a small heave
+  }
+  // Independent of where the free surface of a particle fluid is taken to be: the draft grows
+  // with the density as Archimedes says, d(fraction) / d(rho_b / rho0) = 1, within 3 % between
+  // 0.3 and 0.8 (measured 1.020; the common offset of -0.02 to -0.03 is the surface's).
+  const double slope = (f[2].fraction - f[0].fraction) / (ratios[2] - ratios[0]);
+  std::printf("[ buoyancy ] d(fraction) / d(rho_b / rho0) = %.4f\n", slope);
+  EXPECT_NEAR(slope, 1, 0.03);
+}
 
 // What does hold at coarse resolution: three boxes of 0.3, 0.5, 0.8 rho0 released at rest on
 // the surface come to rest floating (not sinking), the denser ones deeper. (There is no
