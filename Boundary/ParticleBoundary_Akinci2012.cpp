@@ -111,6 +111,7 @@ Real ParticleBoundary_Akinci2012::restDistance(const CubicSplineKernel& kernel, 
 void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& objects, Real density0,
                                              const CubicSplineKernel& kernel) {
   samples_ = BoundarySamples();
+  layerDepths_.clear();
   surfaceOffset_ = requestedOffset_ >= 0
                        ? requestedOffset_
                        : std::max(Real(0), restDistance(kernel, samplingDistance_, fluidSpacing_) - Real(0.5) * fluidSpacing_);
@@ -124,6 +125,7 @@ void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& 
   for (std::size_t b = 0; b < objects.size(); ++b) {
     const BoundaryObject& o = objects[b];
     const Real offset = offsets(o) ? surfaceOffset_ : Real(0);
+    layerDepths_.push_back(offset);
     std::vector<Vector3r> points = o.isBox ? sampleBoxSurface(offsetBox(o, offset, samplingDistance_, true),
                                                               offsetBox(o, offset, samplingDistance_, false), samplingDistance_)
                                            : sampleMeshSurface(o.mesh, samplingDistance_, meshNormalOffset(o, offset));

@@ -25,6 +25,7 @@ class ParticleBoundary_Akinci2012 final : public BoundaryModel {
   ParticleBoundary_Akinci2012(const Params& params, Real particleRadius, Real fluidSpacing);
   void initialize(const std::vector<BoundaryObject>& objects, Real density0, const CubicSplineKernel& kernel) override;
   void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
+  Real layerDepth(std::size_t object) const override { return object < layerDepths_.size() ? layerDepths_[object] : Real(0); }
 
   static std::vector<ParamSpec> parameters();
 
@@ -44,6 +45,7 @@ class ParticleBoundary_Akinci2012 final : public BoundaryModel {
   Real fluidSpacing_;      // m, the fluid lattice spacing d
   Real requestedOffset_;   // m; negative: computed, D - d/2
   std::string offsetObjects_;  // "moving", "all" or "none"
+  std::vector<Real> layerDepths_;  // per object, m
   Real surfaceOffset_ = 0; // m, in effect
   LogSink log_;
   PointGrid grid_;

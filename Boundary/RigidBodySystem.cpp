@@ -14,7 +14,8 @@
 namespace consph {
 
 RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, const BoundarySamples& samples,
-                                 const LogSink& log) {
+                                 std::vector<Real> layerDepth, Real minContactDistance, const LogSink& log)
+    : contact_(std::move(layerDepth), minContactDistance) {
   bodyOfObject_.assign(objects.size(), kNone);
   for (std::size_t o = 0; o < objects.size(); ++o) {
     const BoundaryObject& obj = objects[o];
@@ -100,7 +101,10 @@ void RigidBodySystem::gatherFluidImpulses(const NeighborLists& lists, const Boun
     }
 }
 
-void RigidBodySystem::advance(Real dt, const Vector3r& gravity) {
+void RigidBodySystem::advance(Real dt, const Vector3r& gravity, const BoundarySamples& samples) {
+  // Velocities first (hinged bodies move about their axle at once), then contact on the free
+  // dynamic bodies' new velocities, then their positions.
+  std::vector<char> free(bodies_.size(), 0);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     RigidBody& b = bodies_[i];
     b.fluidForce = impulse_[i] / dt;
@@ -110,14 +114,15 @@ void RigidBodySystem::advance(Real dt, const Vector3r& gravity) {
       if (hingeOfBody_[i] != kNone) advanceHinged(b, hinges_[hingeOfBody_[i]].description, J, angularImpulse_[i], dt);
       else {
         b.applyImpulses(J, angularImpulse_[i], dt);
-        b.advance(dt);
+        free[i] = 1;
       }
-    } else {
-      b.advance(dt);  // animated: constant prescribed velocities
     }
     impulse_[i].setZero();
     angularImpulse_[i].setZero();
   }
+  contactCount_ = contact_.solve(bodies_, free, bodyOfObject_, samples, dt);
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    if (free[i] || bodies_[i].motion == BodyMotion::Animated) bodies_[i].advance(dt);  // animated: constant velocities
 }
 
 void RigidBodySystem::advanceHinged(RigidBody& b, const HingeDescription& h, const Vector3r& J, const Vector3r& L,

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "Boundary/RigidBody.h"
+#include "Boundary/RigidContact.h"
 #include "Simulation/BoundarySamples.h"
 #include "Simulation/NeighborSearch.h"
 #include "Utilities/Log.h"
@@ -25,7 +26,10 @@ class RigidBodySystem {
  public:
   // Builds a body for every non-static object; `samples` are the boundary model's samples of
   // all objects (sample k belongs to object samples.bodies[k]).
-  RigidBodySystem(const std::vector<BoundaryObject>& objects, const BoundarySamples& samples, const LogSink& log);
+  // `layerDepth[o]`: how far object o's samples lie inside its solid (rigid contact);
+  // `minContactDistance`: the closest two sample layers may come.
+  RigidBodySystem(const std::vector<BoundaryObject>& objects, const BoundarySamples& samples, std::vector<Real> layerDepth,
+                  Real minContactDistance, const LogSink& log);
 
   bool empty() const { return bodies_.empty(); }
   bool hasDynamic() const { return dynamicCount_ > 0; }
@@ -37,8 +41,11 @@ class RigidBodySystem {
   void gatherFluidImpulses(const NeighborLists& lists, const BoundarySamples& samples,
                            const std::vector<Vector3r>& pairImpulses);
   // One step: dynamic bodies take the gathered impulses and gravity (hinged ones about their
-  // axle, with the motor), animated ones follow their prescribed velocity. Clears the impulses.
-  void advance(Real dt, const Vector3r& gravity);
+  // axle, with the motor), free ones then rigid contact (RigidContact, on the current
+  // `samples`), animated ones follow their prescribed velocity. Clears the impulses.
+  void advance(Real dt, const Vector3r& gravity, const BoundarySamples& samples);
+  // Contacts found in the last advance().
+  std::size_t contactCount() const { return contactCount_; }
   // Positions and velocities of the moving bodies' samples from the bodies' state.
   void updateSamples(BoundarySamples& samples) const;
 
@@ -58,6 +65,8 @@ class RigidBodySystem {
   std::vector<Hinge> hinges_;
   std::vector<Index> bodyOfObject_;  // object index -> body index, or kNone
   std::size_t dynamicCount_ = 0;
+  RigidContact contact_;
+  std::size_t contactCount_ = 0;
   // Per-thread accumulators (threads x bodies x {impulse, angular impulse}), then their sum.
   std::vector<Vector3r> perThread_;
   std::vector<Vector3r> impulse_, angularImpulse_;

@@ -52,6 +52,8 @@ class BoundaryModel {
   virtual void initialize(const std::vector<BoundaryObject>& objects, Real density0, const CubicSplineKernel& kernel) = 0;
   // Fills fluid i -> boundary sample k lists (with cached kernel gradients).
   virtual void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) = 0;
+  // How far object o's samples lie inside its solid (0: on its surface); rigid contact uses it.
+  virtual Real layerDepth(std::size_t object) const { return 0; }
   // Samples moved (a moving body): the model must rebuild its acceleration structure.
   void markMoved() { moved_ = true; }
   BoundarySamples& samples() { return samples_; }

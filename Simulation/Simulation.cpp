@@ -27,7 +27,10 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
   boundaryModel_->initialize(scene_.boundaries, fluid_->density0(), kernel_);
   for (const BoundaryObject& o : scene_.boundaries)
     if (o.motion != BodyMotion::Static) {
-      bodies_ = std::make_unique<RigidBodySystem>(scene_.boundaries, boundaryModel_->samples(), log_);
+      std::vector<Real> layerDepth(scene_.boundaries.size());
+      for (std::size_t b = 0; b < layerDepth.size(); ++b) layerDepth[b] = boundaryModel_->layerDepth(b);
+      bodies_ = std::make_unique<RigidBodySystem>(scene_.boundaries, boundaryModel_->samples(), std::move(layerDepth),
+                                                  scene_.particleRadius, log_);
       bodies_->updateSamples(boundaryModel_->samples());  // the bodies' initial velocities
       break;
     }
@@ -137,7 +140,7 @@ void Simulation::coupleRigidBodies(StepContext& ctx) {
   // Animated bodies are not moved by it, but their fluid force is reported too.
   pressureSolver_->boundaryImpulses(ctx, pairImpulses_);
   bodies_->gatherFluidImpulses(boundaryNeighbors_, boundaryModel_->samples(), pairImpulses_);
-  bodies_->advance(dt_, scene_.gravity);
+  bodies_->advance(dt_, scene_.gravity, boundaryModel_->samples());
   bodies_->updateSamples(boundaryModel_->samples());
   boundaryModel_->markMoved();
 }

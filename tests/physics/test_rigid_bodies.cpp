@@ -349,3 +349,69 @@ TEST(RigidBodies, OverlappingStartDoesNotExplode) {
   EXPECT_LT(maxSpeed, 3.2);
   EXPECT_GT(closest, 0.025);  // no particle left within r of the surface
 }
+
+// Rigid contact (Boundary/RigidContact.h): a box twice as dense as water sinks and comes to rest
+// on the tank floor instead of passing through it (there is no fluid left between them to
+// hold it), and a second box dropped onto it without fluid comes to rest on top of it.
+TEST(RigidBodies, SinkingBoxRestsOnTheFloor) {
+  auto sim = makeSimulation(R"({
+    "simulation": {"particleRadius": 0.025, "maxTimeStep": 0.004},
+    "fluids": [{"blocks": [{"min": [0.05, 0.05, 0.05], "max": [0.55, 0.25, 0.55]}]}],
+    "boundaries": [{"name": "tank", "box": {"min": [0, 0, 0], "max": [0.6, 1.0, 0.6]}, "inverted": true},
+                   {"name": "box", "box": {"min": [0.2, 0.35, 0.2], "max": [0.4, 0.45, 0.4]}, "dynamic": true, "density": 2000}],
+    "output": {"enabled": false}})");
+  const RigidBody& body = sim->rigidBodies()->bodies().at(0);
+  double lowest = 1e9;
+  while (sim->time() < 2.0) {
+    sim->step();
+    lowest = std::min<double>(lowest, body.x[1] - 0.05);
+  }
+  std::printf("[ contact ] box bottom %.4f m (lowest %.4f), velocity (%.4f %.4f %.4f) m/s, %zu contacts\n", double(body.x[1] - 0.05),
+              lowest, double(body.v[0]), double(body.v[1]), double(body.v[2]), sim->rigidBodies()->contactCount());
+  EXPECT_GT(lowest, -0.025);                // never more than r into the floor
+  EXPECT_LT(body.x[1] - 0.05, 0.025);       // on the floor, not floating
+  EXPECT_LT(std::abs(body.v[1]), 0.02);     // resting on it (frictionless: the fluid may slide it along)
+  EXPECT_GT(sim->rigidBodies()->contactCount(), 0u);
+}
+
+TEST(RigidBodies, BoxStacksOnABoxWithoutFluid) {
+  auto sim = makeSimulation(R"({
+    "simulation": {"particleRadius": 0.025, "maxTimeStep": 0.004},
+    "fluids": [{"blocks": [{"min": [0.9, 0.0, 0.0], "max": [0.95, 0.05, 0.05]}]}],
+    "boundaries": [{"name": "floor", "box": {"min": [-0.5, -0.1, -0.5], "max": [1.5, 0.0, 1.5]}},
+                   {"name": "lower", "box": {"min": [0.2, 0.0, 0.2], "max": [0.4, 0.1, 0.4]}, "dynamic": true, "density": 1000},
+                   {"name": "upper", "box": {"min": [0.22, 0.3, 0.22], "max": [0.38, 0.4, 0.38]}, "dynamic": true, "density": 500}],
+    "output": {"enabled": false}})");
+  const auto& b = sim->rigidBodies()->bodies();
+  sim->run(1.0);
+  std::printf("[ contact ] lower bottom %.4f, upper bottom %.4f (lower top %.4f), speeds %.4f %.4f m/s\n", double(b[0].x[1] - 0.05),
+              double(b[1].x[1] - 0.05), double(b[0].x[1] + 0.05), double(b[0].v.norm()), double(b[1].v.norm()));
+  EXPECT_NEAR(b[0].x[1] - 0.05, 0.0, 0.025);          // the lower box on the floor
+  EXPECT_NEAR(b[1].x[1] - 0.05, b[0].x[1] + 0.05, 0.025);  // the upper one on the lower one
+  EXPECT_LT(b[0].v.norm(), 0.02);
+  EXPECT_LT(b[1].v.norm(), 0.02);
+}
+
+// Gravity off, no fluid in reach: two boxes collide head-on. Contact impulses are equal and
+// opposite, so the bodies' total momentum is unchanged and they do not pass through each other.
+TEST(RigidBodies, BodyBodyContactConservesMomentum) {
+  auto sim = makeSimulation(R"({
+    "simulation": {"particleRadius": 0.025, "maxTimeStep": 0.004, "gravity": [0, 0, 0]},
+    "fluids": [{"blocks": [{"min": [5, 5, 5], "max": [5.05, 5.05, 5.05]}]}],
+    "boundaries": [{"box": {"min": [0.0, 0.0, 0.0], "max": [0.2, 0.2, 0.2]}, "dynamic": true, "density": 1000, "velocity": [1, 0, 0]},
+                   {"box": {"min": [0.4, 0.02, 0.0], "max": [0.6, 0.22, 0.2]}, "dynamic": true, "density": 500, "velocity": [-1, 0, 0]}],
+    "output": {"enabled": false}})");
+  const auto& b = sim->rigidBodies()->bodies();
+  const Vector3r p0 = sim->rigidBodies()->momentum();
+  double worst = 0, closest = 1e9;
+  while (sim->time() < 0.4) {
+    sim->step();
+    worst = std::max(worst, double((sim->rigidBodies()->momentum() - p0).norm() / p0.norm()));
+    closest = std::min(closest, double(b[1].x[0] - b[0].x[0]));
+  }
+  std::printf("[ contact ] momentum change %.3g relative, closest centres %.4f m (touching 0.2), velocities %.3f %.3f m/s\n", worst,
+              closest, double(b[0].v[0]), double(b[1].v[0]));
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_GT(closest, 0.2 - 0.025);       // not through each other (at most r of overlap)
+  EXPECT_LT(b[0].v[0], b[1].v[0] + 1e-9);  // they separate or move on together, not through
+}

@@ -1,0 +1,105 @@
+#include "Boundary/RigidContact.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <limits>
+
+namespace consph {
+
+std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vector<char>& solvable,
+                                const std::vector<Index>& bodyOfObject, const BoundarySamples& samples, Real dt) {
+  if (std::none_of(solvable.begin(), solvable.end(), [](char s) { return s != 0; })) return 0;
+  const Real maxDepth = *std::max_element(layerDepth_.begin(), layerDepth_.end());
+  const Real reach = std::max(2 * maxDepth, minDistance_);
+  // Contacts are looked for a little beyond touching, so a body closing in fast is caught the
+  // step before it would overlap (speculative contacts: the gap may close, not more).
+  const Real margin = minDistance_;
+  grid_.build(samples.positions.data(), samples.size(), reach + margin);
+
+  const int threads = omp_get_max_threads();
+  perThread_.assign(std::size_t(threads), {});
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    if (!solvable[b]) continue;
+    const RigidBody& body = bodies[b];
+    const Index object = body.object;
+    const std::ptrdiff_t n = std::ptrdiff_t(body.samples.size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t s = 0; s < n; ++s) {
+      const Index k = body.samples[s];
+      const Vector3r xk = samples.positions[k];
+      // The closest other object, then its surface near x_k from the weighted mean and spread
+      // of its samples there: a sample-to-sample direction would tilt wherever the two sample
+      // grids do not line up and push the bodies sideways.
+      Index closestObject = kNone, closestSample = kNone;
+      Real closest = std::numeric_limits<Real>::max();
+      grid_.forEachNeighbor(xk, reach + margin, [&](Index l, const Vector3r& xl) {
+        if (samples.bodies[l] == object) return;
+        const Real distance = (xk - xl).norm();
+        if (distance < closest) {
+          closest = distance;
+          closestObject = samples.bodies[l];
+          closestSample = l;
+        }
+      });
+      if (closestObject == kNone) continue;
+      const Real radius = reach + margin;
+      Vector3r direction = Vector3r::Zero(), mean = Vector3r::Zero();
+      Real weightSum = 0;
+      grid_.forEachNeighbor(xk, radius, [&](Index l, const Vector3r& xl) {
+        if (samples.bodies[l] != closestObject) return;
+        const Real q = 1 - (xk - xl).norm() / radius, w = q * q;
+        direction += w * (xk - xl);
+        mean += w * xl;
+        weightSum += w;
+      });
+      if (weightSum <= 0 || direction.norm() <= 0) continue;
+      const Vector3r normal = direction.normalized();
+      const Real gap = (xk - mean / weightSum).dot(normal) - std::max(layerDepth_[object] + layerDepth_[closestObject], minDistance_);
+      if (gap < margin)
+        perThread_[std::size_t(omp_get_thread_num())].push_back({Index(b), bodyOfObject[closestObject], k, closestSample, normal, gap, 0});
+    }
+  }
+  std::vector<Contact> contacts;
+  for (auto& list : perThread_) contacts.insert(contacts.end(), list.begin(), list.end());
+  if (contacts.empty()) return 0;
+
+  std::vector<Matrix3r> invInertia(bodies.size());
+  for (std::size_t b = 0; b < bodies.size(); ++b) invInertia[b] = bodies[b].invInertiaWorld();
+  auto velocityAt = [&](Index body, Index sample) -> Vector3r {
+    if (body == kNone) return samples.velocities[sample];  // static: zero; kinematic: its own
+    return bodies[body].velocityAt(samples.positions[sample]);
+  };
+  for (int it = 0; it < kIterations; ++it)
+    for (Contact& c : contacts) {
+      RigidBody& a = bodies[c.body];
+      const bool otherFree = c.other != kNone && solvable[c.other];
+      const Vector3r ra = samples.positions[c.k] - a.x;
+      const Vector3r raXn = ra.cross(c.normal);
+      Real effectiveMass = 1 / a.mass + raXn.dot(invInertia[c.body] * raXn);
+      Vector3r rbXn = Vector3r::Zero();
+      if (otherFree) {
+        const RigidBody& o = bodies[c.other];
+        rbXn = (samples.positions[c.l] - o.x).cross(c.normal);
+        effectiveMass += 1 / o.mass + rbXn.dot(invInertia[c.other] * rbXn);
+      }
+      const Vector3r vb = velocityAt(c.other, c.l);
+      const Real normalVelocity = (a.velocityAt(samples.positions[c.k]) - vb).dot(c.normal);
+      // Closing speed allowed: the gap left (>= 0), or a bounded push-out speed once overlapping.
+      const Real target = c.gap >= 0 ? -c.gap / dt : -kPushOutRate * c.gap / dt;
+      const Real updated = std::max(c.impulse + (target - normalVelocity) / effectiveMass, Real(0));
+      const Real delta = updated - c.impulse;
+      c.impulse = updated;
+      if (delta == 0) continue;
+      a.v += (delta / a.mass) * c.normal;
+      a.w += invInertia[c.body] * (delta * raXn);
+      if (otherFree) {
+        RigidBody& o = bodies[c.other];
+        o.v -= (delta / o.mass) * c.normal;
+        o.w -= invInertia[c.other] * (delta * rbXn);
+      }
+    }
+  return contacts.size();
+}
+
+}  // namespace consph

@@ -1,0 +1,48 @@
+// Simple rigid contact: dynamic bodies against static objects, animated or hinged bodies and
+// each other, through their boundary samples. Frictionless, velocity level, solved before the
+// bodies move: for every sample of a free dynamic body near a sample of another object, the
+// relative normal velocity may close at most the remaining gap this step and pushes apart at a
+// bounded rate when the layers already overlap (sequential impulses, accumulated and clamped
+// non-negative, so contacts only push). Enough that a body that sinks rests on the floor
+// instead of passing through it; not a general rigid-body solver (no friction, no stacking
+// guarantees).
+#pragma once
+#include <vector>
+
+#include "Boundary/RigidBody.h"
+#include "Simulation/BoundarySamples.h"
+#include "Simulation/NeighborSearch.h"
+
+namespace consph {
+
+class RigidContact {
+ public:
+  // `layerDepth[o]`: how far object o's samples lie inside its solid; two objects touch when
+  // their sample layers are layerDepth[a] + layerDepth[b] apart (at least `minDistance`).
+  RigidContact(std::vector<Real> layerDepth, Real minDistance) : layerDepth_(std::move(layerDepth)), minDistance_(minDistance) {}
+
+  // Changes the velocities of the bodies with solvable[b] (free dynamic bodies); every other
+  // body is an obstacle moving with its own velocity. `bodyOfObject[o]`: o's body or kNone.
+  // Returns the number of contacts this step.
+  std::size_t solve(std::vector<RigidBody>& bodies, const std::vector<char>& solvable, const std::vector<Index>& bodyOfObject,
+                    const BoundarySamples& samples, Real dt);
+
+  static constexpr Index kNone = ~Index(0);
+  static constexpr int kIterations = 10;
+  static constexpr Real kPushOutRate = Real(0.2);  // fraction of an overlap removed per step
+
+ private:
+  struct Contact {
+    Index body, other;  // other: a body index or kNone (static)
+    Index k, l;         // the two samples
+    Vector3r normal;    // from l to k
+    Real gap;           // distance minus contact distance (negative: overlap)
+    Real impulse = 0;   // accumulated normal impulse
+  };
+  std::vector<Real> layerDepth_;
+  Real minDistance_;
+  PointGrid grid_;
+  std::vector<std::vector<Contact>> perThread_;
+};
+
+}  // namespace consph
