@@ -15,7 +15,36 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
   // Contacts are looked for a little beyond touching, so a body closing in fast is caught the
   // step before it would overlap (speculative contacts: the gap may close, not more).
   const Real margin = minDistance_;
-  grid_.build(samples.positions.data(), samples.size(), reach + margin);
+  const Real cell = reach + margin;
+  auto gather = [&](bool moving, std::vector<Vector3r>& points, std::vector<Index>& index) {
+    points.clear();
+    index.clear();
+    for (std::size_t k = 0; k < samples.size(); ++k)
+      if ((bodyOfObject[samples.bodies[k]] != kNone) == moving) {
+        points.push_back(samples.positions[k]);
+        index.push_back(Index(k));
+      }
+  };
+  if (!staticBuilt_) {
+    gather(false, staticPoints_, staticIndex_);
+    staticGrid_.build(staticPoints_.data(), staticPoints_.size(), cell);
+    staticBuilt_ = true;
+  }
+  gather(true, movingPoints_, movingIndex_);
+  movingGrid_.build(movingPoints_.data(), movingPoints_.size(), cell);
+  // Broad phase between moving bodies: their samples' bounding boxes, grown by the reach.
+  std::vector<Vector3r> lo(bodies.size(), Vector3r::Constant(std::numeric_limits<Real>::max())),
+      hi(bodies.size(), Vector3r::Constant(std::numeric_limits<Real>::lowest()));
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    for (Index k : bodies[b].samples) {
+      lo[b] = lo[b].cwiseMin(samples.positions[k]);
+      hi[b] = hi[b].cwiseMax(samples.positions[k]);
+    }
+  auto nearOtherBody = [&](std::size_t b) {
+    for (std::size_t c = 0; c < bodies.size(); ++c)
+      if (c != b && (lo[c] - hi[b]).maxCoeff() < cell && (lo[b] - hi[c]).maxCoeff() < cell) return true;
+    return false;
+  };
 
   const int threads = omp_get_max_threads();
   perThread_.assign(std::size_t(threads), {});
@@ -23,6 +52,7 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
     if (!solvable[b]) continue;
     const RigidBody& body = bodies[b];
     const Index object = body.object;
+    const bool withMoving = nearOtherBody(b);
     const std::ptrdiff_t n = std::ptrdiff_t(body.samples.size());
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t s = 0; s < n; ++s) {
@@ -33,7 +63,7 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
       // grids do not line up and push the bodies sideways.
       Index closestObject = kNone, closestSample = kNone;
       Real closest = std::numeric_limits<Real>::max();
-      grid_.forEachNeighbor(xk, reach + margin, [&](Index l, const Vector3r& xl) {
+      forEachSampleNear(xk, cell, withMoving, [&](Index l, const Vector3r& xl) {
         if (samples.bodies[l] == object) return;
         const Real distance = (xk - xl).norm();
         if (distance < closest) {
@@ -43,10 +73,10 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
         }
       });
       if (closestObject == kNone) continue;
-      const Real radius = reach + margin;
+      const Real radius = cell;
       Vector3r direction = Vector3r::Zero(), mean = Vector3r::Zero();
       Real weightSum = 0;
-      grid_.forEachNeighbor(xk, radius, [&](Index l, const Vector3r& xl) {
+      forEachSampleNear(xk, radius, withMoving, [&](Index l, const Vector3r& xl) {
         if (samples.bodies[l] != closestObject) return;
         const Real q = 1 - (xk - xl).norm() / radius, w = q * q;
         direction += w * (xk - xl);

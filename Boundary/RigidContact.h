@@ -39,9 +39,21 @@ class RigidContact {
     Real gap;           // distance minus contact distance (negative: overlap)
     Real impulse = 0;   // accumulated normal impulse
   };
+  // Calls f(l, x_l) for every sample l within `radius` of p: static samples from a grid built
+  // once (they never move), moving ones from a grid rebuilt every step.
+  // `withMoving`: false when no other moving body is near (skips the body's own samples).
+  template <class F>
+  void forEachSampleNear(const Vector3r& p, Real radius, bool withMoving, F&& f) const {
+    staticGrid_.forEachNeighbor(p, radius, [&](Index j, const Vector3r& x) { f(staticIndex_[j], x); });
+    if (withMoving) movingGrid_.forEachNeighbor(p, radius, [&](Index j, const Vector3r& x) { f(movingIndex_[j], x); });
+  }
+
   std::vector<Real> layerDepth_;
   Real minDistance_;
-  PointGrid grid_;
+  bool staticBuilt_ = false;
+  PointGrid staticGrid_, movingGrid_;
+  std::vector<Vector3r> staticPoints_, movingPoints_;
+  std::vector<Index> staticIndex_, movingIndex_;  // grid entry -> sample
   std::vector<std::vector<Contact>> perThread_;
 };
 
