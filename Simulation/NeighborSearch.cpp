@@ -8,20 +8,45 @@
 namespace consph {
 
 void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
-  invCellSize_ = Real(1) / cellSize;
-  std::size_t tableSize = 64;
-  while (tableSize < 2 * n) tableSize <<= 1;
-  tableMask_ = Index(tableSize - 1);
   keys_.resize(n);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i)
-    keys_[i] = bucket(cellCoord(points[i][0]), cellCoord(points[i][1]), cellCoord(points[i][2]));
-  // Counting sort by bucket: O(n), serial, a small fraction of the neighbour-list build.
-  cellStart_.assign(tableSize + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++cellStart_[keys_[i] + 1];
-  std::partial_sum(cellStart_.begin(), cellStart_.end(), cellStart_.begin());
   sortedIndex_.resize(n);
   sortedPoints_.resize(n);
+  if (n == 0) {
+    dims_ = {0, 0, 0};
+    cellStart_.assign(1, 0);
+    return;
+  }
+  Vector3r lo = points[0], hi = points[0];
+  for (std::size_t i = 1; i < n; ++i) {
+    lo = lo.cwiseMin(points[i]);
+    hi = hi.cwiseMax(points[i]);
+  }
+  // Points flung far apart would need a huge box of small cells: grow the cells instead (still
+  // >= cellSize, so the 27-cell query stays complete).
+  cellSize_ = cellSize;
+  const std::size_t maxCells = std::max<std::size_t>(kMaxCellsPerPoint * n, 4096);
+  for (;;) {
+    std::size_t cells = 1;
+    for (int a = 0; a < 3; ++a) {
+      dims_[a] = int(std::min<Real>(std::floor((hi[a] - lo[a]) / cellSize_) + 1, Real(1 << 20)));
+      cells *= std::size_t(dims_[a]);
+    }
+    if (cells <= maxCells) break;
+    cellSize_ *= 2;
+  }
+  invCellSize_ = Real(1) / cellSize_;
+  origin_ = lo;
+  const std::size_t cells = std::size_t(dims_[0]) * dims_[1] * dims_[2];
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
+    auto c = cellOf(points[i]);
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(c[a], 0, dims_[a] - 1);  // rounding at the box's upper faces
+    keys_[i] = Index((std::size_t(c[2]) * dims_[1] + c[1]) * dims_[0] + c[0]);
+  }
+  // Counting sort by cell: O(n + cells), serial, a small fraction of the neighbour-list build.
+  cellStart_.assign(cells + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++cellStart_[keys_[i] + 1];
+  std::partial_sum(cellStart_.begin(), cellStart_.end(), cellStart_.begin());
   std::vector<Index> cursor(cellStart_.begin(), cellStart_.end() - 1);
   for (std::size_t i = 0; i < n; ++i) {
     const Index s = cursor[keys_[i]]++;

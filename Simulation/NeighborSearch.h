@@ -1,9 +1,12 @@
-// Fixed-radius neighbour search on a uniform grid with compact hashing (cell size = support
-// radius, 27 cells per query), built in parallel without locks. Results are flat CSR arrays,
+// Fixed-radius neighbour search on a dense uniform grid over the points' bounding box (cell
+// size = support radius, 27 cells per query visited as 9 contiguous rows), built in parallel
+// without locks. Results are flat CSR arrays,
 // built once per step and reused by every solver iteration; each entry also caches the kernel
 // gradient, since every Jacobi iteration needs it and recomputing it costs a square root.
 #pragma once
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "Simulation/Common.h"
@@ -29,30 +32,31 @@ struct NeighborLists {
   std::size_t pairCount() const { return indices.size(); }
 };
 
-// A hashed grid over one point set.
+// A dense uniform grid over the bounding box of one point set, cells in row-major order (x
+// fastest), points counting-sorted by cell. The three cells of a row are contiguous in the
+// sorted arrays, so a query visits 9 ranges instead of 27 cells, and no two cells share a slot
+// (no hash aliasing to filter). Cells grow past `cellSize` only when the box would need more
+// than kMaxCellsPerPoint cells per point (points flung far apart), which keeps memory bounded.
 class PointGrid {
  public:
   void build(const Vector3r* points, std::size_t n, Real cellSize);
   std::size_t size() const { return sortedIndex_.size(); }
+  Real cellSize() const { return cellSize_; }
 
   // Calls f(begin, end) for the ranges of sorted entries (sortedPoints/sortedIndices) of the
-  // distinct buckets of the 27 cells around p; candidates, to be filtered by distance.
+  // 27 cells around p (as up to 9 row ranges); candidates, to be filtered by distance.
   template <class F>
   void forEachCandidateRange(const Vector3r& p, F&& f) const {
     if (sortedIndex_.empty()) return;
-    const int cx = cellCoord(p[0]), cy = cellCoord(p[1]), cz = cellCoord(p[2]);
-    Index buckets[27];
-    int nb = 0;
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const Index b = bucket(cx + dx, cy + dy, cz + dz);
-          bool seen = false;  // two cells hashing to one bucket must not report a point twice
-          for (int k = 0; k < nb; ++k) seen |= (buckets[k] == b);
-          if (!seen) buckets[nb++] = b;
-        }
-    for (int k = 0; k < nb; ++k)
-      if (cellStart_[buckets[k]] < cellStart_[buckets[k] + 1]) f(cellStart_[buckets[k]], cellStart_[buckets[k] + 1]);
+    const int cx = cellCoord(p[0], 0), cy = cellCoord(p[1], 1), cz = cellCoord(p[2], 2);
+    const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, dims_[0] - 1);
+    if (x0 > x1) return;
+    for (int z = std::max(cz - 1, 0); z <= std::min(cz + 1, dims_[2] - 1); ++z)
+      for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, dims_[1] - 1); ++y) {
+        const std::size_t row = (std::size_t(z) * dims_[1] + y) * dims_[0];
+        const Index begin = cellStart_[row + x0], end = cellStart_[row + x1 + 1];
+        if (begin < end) f(begin, end);
+      }
   }
 
   // Calls f(j, x_j) for every point j within `radius` (<= cell size) of p.
@@ -68,22 +72,26 @@ class PointGrid {
   }
 
   // The cell of p: queries in one cell share their candidates.
-  std::array<int, 3> cellOf(const Vector3r& p) const { return {cellCoord(p[0]), cellCoord(p[1]), cellCoord(p[2])}; }
+  std::array<int, 3> cellOf(const Vector3r& p) const { return {cellCoord(p[0], 0), cellCoord(p[1], 1), cellCoord(p[2], 2)}; }
   const Vector3r* sortedPoints() const { return sortedPoints_.data(); }
   const Index* sortedIndices() const { return sortedIndex_.data(); }
 
+  static constexpr std::size_t kMaxCellsPerPoint = 64;
+
  private:
-  int cellCoord(Real v) const { return static_cast<int>(std::floor(v * invCellSize_)); }
-  Index bucket(int x, int y, int z) const {
-    const std::uint32_t h = (std::uint32_t(x) * 73856093u) ^ (std::uint32_t(y) * 19349663u) ^ (std::uint32_t(z) * 83492791u);
-    return h & tableMask_;
+  // Cell coordinate along axis a, relative to the box; may lie outside [0, dims) for a query
+  // point outside the box (clamped in the range loops).
+  int cellCoord(Real v, int a) const {
+    const Real c = std::floor((v - origin_[a]) * invCellSize_);
+    return c < Real(-2) ? -2 : (c > Real(dims_[a] + 1) ? dims_[a] + 1 : int(c));
   }
 
-  Real invCellSize_ = 1;
-  Index tableMask_ = 0;
-  std::vector<Index> cellStart_;       // (table size + 1)
-  std::vector<Index> sortedIndex_;     // (n) point index in bucket order
-  std::vector<Vector3r> sortedPoints_; // (n) positions in bucket order, for contiguous reads
+  Real cellSize_ = 1, invCellSize_ = 1;
+  Vector3r origin_ = Vector3r::Zero();
+  std::array<int, 3> dims_ = {0, 0, 0};
+  std::vector<Index> cellStart_;       // (cells + 1)
+  std::vector<Index> sortedIndex_;     // (n) point index in cell order
+  std::vector<Vector3r> sortedPoints_; // (n) positions in cell order, for contiguous reads
   std::vector<Index> keys_;            // (n) scratch
 };
 
