@@ -49,13 +49,15 @@ class BoundaryPressureTreatment {
   const Vector3r& boundaryGradient(std::size_t i) const { return gradientSum_[i]; }
   // Eq. (15)'s sum_k m_i m~_k |grad W_ik|^2 (mirroring, extrapolation), 0 for Eq. (32).
   Real diagonalTerm(std::size_t i) const { return classicalDiagonal_ ? diagonalTerm_[i] : Real(0); }
-  // Extrapolation: the diagonal's boundary term from how p_k = sum_f c_kf p_f moves with p_i,
-  // (rho_i^2 / rho0^2) h_i . S_i with h_i = sum_k m~_k c_ki grad W_ik and S_i the full gradient sum
-  // (fluid and boundary), where it exceeds Eq. (15)'s term. With MLS, c_ki can well exceed 1
-  // next to a wall (the fit extrapolates), and a relaxed Jacobi step sized by Eq. (15) alone then
-  // overshoots and diverges (IISPH dropping a cube into a sphere leaked through it).
+  // Extrapolation: the diagonal's boundary term, Eq. (15)'s plus how p_k = sum_f c_kf p_f moves
+  // with p_i, (rho_i^2 / rho0^2) h_i . S_i with h_i = sum_k m~_k c_ki grad W_ik and S_i the full
+  // gradient sum (fluid and boundary), where positive. With MLS, c_ki can well exceed 1 next to a
+  // wall (the fit extrapolates), and a relaxed Jacobi step sized by Eq. (15) alone overshoots
+  // and diverges (IISPH dropping a cube into a sphere leaked through it). Erring large only
+  // slows the iteration; measured on SphereDrop: 34.3 iterations per step either way, no
+  // iteration-cap hit (taking the larger of the two terms instead of their sum left 4).
   Real extrapolationDiagonalTerm(std::size_t i, const Vector3r& gradientSum, Real rhoI) const {
-    return std::max(diagonalTerm(i), rhoI * rhoI * invRho0Squared_ * extrapolationGradient_[i].dot(gradientSum));
+    return diagonalTerm(i) + std::max(Real(0), rhoI * rhoI * invRho0Squared_ * extrapolationGradient_[i].dot(gradientSum));
   }
 
   // Boundary part of a_i^p for fluid pressure p_i (beta_i = p_i / rho_i^2); `pk` holds p_k per
