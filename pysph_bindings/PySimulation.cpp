@@ -247,6 +247,33 @@ output: None (the scene's "output"), False (write no frames) or a directory for 
                              "the scene as a dict (after overrides)")
       .def("summary", [](PySimulation& s) { return toPython(s.simulation().summary()); },
            "The run's summary figures as a dict (the CLI's --summary-json).")
+      .def_property_readonly(
+          "bodies",
+          [](PySimulation& s) {
+            // Copies: a scene has a handful of bodies, and their state lives in Eigen types.
+            py::list out;
+            const RigidBodySystem* system = s.simulation().rigidBodies();
+            if (!system) return out;
+            auto vec = [](const Vector3r& v) { return py::make_tuple(v[0], v[1], v[2]); };
+            for (const RigidBody& b : system->bodies()) {
+              py::dict d;
+              d["name"] = b.name;
+              d["motion"] = b.motion == BodyMotion::Dynamic ? "dynamic" : "animated";
+              d["mass"] = b.mass;
+              d["position"] = vec(b.x);
+              d["orientation"] = py::make_tuple(b.q.w(), b.q.x(), b.q.y(), b.q.z());
+              d["velocity"] = vec(b.v);
+              d["angular_velocity"] = vec(b.w);
+              d["fluid_force"] = vec(b.fluidForce);
+              d["fluid_torque"] = vec(b.fluidTorque);
+              out.append(d);
+            }
+            return out;
+          },
+          "The moving bodies' state as a list of dicts in scene order (copies; the columns of "
+          "bodies.csv): name, motion, mass (kg), position of the centre of mass (m), orientation "
+          "quaternion (w, x, y, z), velocity, angular_velocity, and the fluid's force and torque over "
+          "the last step (N, N m about the centre of mass).")
       .def(
           "fluid",
           [](const std::shared_ptr<PySimulation>& s, const py::object& name) {
