@@ -169,10 +169,6 @@ std::vector<Vector3r> sampleBoxSurface(const Vector3r& lo, const Vector3r& hi, R
   return points;
 }
 
-}  // namespace consph
-
-namespace consph {
-
 Vector3r closestPointOnTriangle(const Vector3r& p, const Vector3r& a, const Vector3r& b, const Vector3r& c) {
   // Voronoi regions of the vertices, edges and face (C. Ericson, Real-Time Collision Detection, 5.1.5).
   const Vector3r ab = b - a, ac = c - a, ap = p - a;

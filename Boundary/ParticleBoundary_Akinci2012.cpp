@@ -112,19 +112,19 @@ void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& 
                                              const CubicSplineKernel& kernel) {
   samples_ = BoundarySamples();
   layerDepths_.clear();
-  surfaceOffset_ = requestedOffset_ >= 0
+  const Real surfaceOffset = requestedOffset_ >= 0
                        ? requestedOffset_
                        : std::max(Real(0), restDistance(kernel, samplingDistance_, fluidSpacing_) - Real(0.5) * fluidSpacing_);
   const bool anyOffset = std::any_of(objects.begin(), objects.end(), [&](const BoundaryObject& o) { return offsets(o); });
   if (requestedOffset_ < 0 && anyOffset && log_) {
     char line[200];
     std::snprintf(line, sizeof(line), "Akinci2012: sample layers of %s objects %.3g r inside the solids (the resting fluid's surface on the meshes)",
-                  offsetObjects_.c_str(), double(surfaceOffset_ / particleRadius_));
+                  offsetObjects_.c_str(), double(surfaceOffset / particleRadius_));
     log_(LogLevel::Info, line);
   }
   for (std::size_t b = 0; b < objects.size(); ++b) {
     const BoundaryObject& o = objects[b];
-    const Real offset = offsets(o) ? surfaceOffset_ : Real(0);
+    const Real offset = offsets(o) ? surfaceOffset : Real(0);
     layerDepths_.push_back(offset);
     std::vector<Vector3r> points = o.isBox ? sampleBoxSurface(offsetBox(o, offset, samplingDistance_, true),
                                                               offsetBox(o, offset, samplingDistance_, false), samplingDistance_)

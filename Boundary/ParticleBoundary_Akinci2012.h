@@ -33,8 +33,6 @@ class ParticleBoundary_Akinci2012 final : public BoundaryModel {
   // layer of a fluid lattice of spacing `fluidSpacing` has rest density (bisection).
   static Real restDistance(const CubicSplineKernel& kernel, Real samplingDistance, Real fluidSpacing);
 
-  // The distance the sample layer is moved into the solid (m), after initialize().
-  Real surfaceOffset() const { return surfaceOffset_; }
   void setLog(const LogSink& log) { log_ = log; }
 
  private:
@@ -46,7 +44,6 @@ class ParticleBoundary_Akinci2012 final : public BoundaryModel {
   Real requestedOffset_;   // m; negative: computed, D - d/2
   std::string offsetObjects_;  // "moving", "all" or "none"
   std::vector<Real> layerDepths_;  // per object, m
-  Real surfaceOffset_ = 0; // m, in effect
   LogSink log_;
   PointGrid grid_;
 };

@@ -16,21 +16,22 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
   // step before it would overlap (speculative contacts: the gap may close, not more).
   const Real margin = minDistance_;
   const Real cell = reach + margin;
-  auto gather = [&](bool moving, std::vector<Vector3r>& points, std::vector<Index>& index) {
-    points.clear();
-    index.clear();
-    for (std::size_t k = 0; k < samples.size(); ++k)
-      if ((bodyOfObject[samples.bodies[k]] != kNone) == moving) {
-        points.push_back(samples.positions[k]);
-        index.push_back(Index(k));
-      }
-  };
   if (!staticBuilt_) {
-    gather(false, staticPoints_, staticIndex_);
+    for (std::size_t k = 0; k < samples.size(); ++k)
+      if (bodyOfObject[samples.bodies[k]] == kNone) {
+        staticPoints_.push_back(samples.positions[k]);
+        staticIndex_.push_back(Index(k));
+      }
     staticGrid_.build(staticPoints_.data(), staticPoints_.size(), cell);
     staticBuilt_ = true;
   }
-  gather(true, movingPoints_, movingIndex_);
+  movingPoints_.clear();
+  movingIndex_.clear();
+  for (const RigidBody& body : bodies)
+    for (Index k : body.samples) {
+      movingPoints_.push_back(samples.positions[k]);
+      movingIndex_.push_back(k);
+    }
   movingGrid_.build(movingPoints_.data(), movingPoints_.size(), cell);
   // Broad phase between moving bodies: their samples' bounding boxes, grown by the reach.
   std::vector<Vector3r> lo(bodies.size(), Vector3r::Constant(std::numeric_limits<Real>::max())),

@@ -74,7 +74,7 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
     // Queries are Z-sorted, so consecutive ones mostly share a cell: the candidates of the 27
     // cells around it are gathered once into a structure-of-arrays buffer, whose distance test
     // vectorises. grad W is evaluated while x_j is in cache. The order within a list is
-    // deterministic (buckets in a fixed order, entries in bucket order).
+    // deterministic (cells in a fixed order, entries in cell order).
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     const std::size_t b = n * t / nt, e = n * (t + 1) / nt;
     chunkBegin[t] = b;

@@ -32,7 +32,6 @@ struct StepContext {
   Real time;
   std::size_t step;
   const LogSink& log;
-  Real particleSpacing = 0;  // m, the fluid lattice spacing d (particle volume d^3); 0: 0.8^(1/3) 2r
 };
 
 // Passed to plugin factories: what a plugin may look at when it is created.

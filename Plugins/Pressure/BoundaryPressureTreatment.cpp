@@ -89,11 +89,15 @@ void BoundaryPressureTreatment::computeMlsCoefficients(const StepContext& ctx) {
       mlsCoefficients_[e] *= invSumW * (Real(1) + (f.positions[t.indices[e]] - xBar).dot(slope));
   }
   fallbacks_ = fallbacks;
+}
 
+void BoundaryPressureTreatment::computeExtrapolationCoupling(const StepContext& ctx) {
   // h_i = sum_k m~_k c_ki grad W_ik: how the boundary term of a_i^p moves with p_i through the
   // extrapolated p_k (each k's list holds its fluid neighbours in ascending order).
+  const BoundarySamples& b = ctx.boundary;
   const NeighborLists& bn = ctx.boundaryNeighbors;
-  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  const NeighborLists& t = boundaryToFluid_;
+  const std::ptrdiff_t n = std::ptrdiff_t(ctx.fluid.size());
   extrapolationGradient_.resize(n);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {

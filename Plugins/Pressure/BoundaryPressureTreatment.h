@@ -56,6 +56,9 @@ class BoundaryPressureTreatment {
   // and diverges (IISPH dropping a cube into a sphere leaked through it). Erring large only
   // slows the iteration; measured on SphereDrop: 34.3 iterations per step either way, no
   // iteration-cap hit (taking the larger of the two terms instead of their sum left 4).
+  // computeExtrapolationCoupling() fills h_i, after beginStep(); only a solver that uses this
+  // term (IISPH) pays for it.
+  void computeExtrapolationCoupling(const StepContext& ctx);
   Real extrapolationDiagonalTerm(std::size_t i, const Vector3r& gradientSum, Real rhoI) const {
     return diagonalTerm(i) + std::max(Real(0), rhoI * rhoI * invRho0Squared_ * extrapolationGradient_[i].dot(gradientSum));
   }

@@ -35,6 +35,7 @@ IISPH::IISPH(const Params& p) {
 
 void IISPH::prepare(StepContext& ctx) {
   treatment_.beginStep(ctx);
+  if (treatment_.extrapolates()) treatment_.computeExtrapolationCoupling(ctx);
   FluidModel& f = ctx.fluid;
   const Real rho0 = f.density0(), dt = ctx.dt, omega = settings_.omega;
   const Real start = settings_.warmStart ? Real(0.5) : Real(0);
