@@ -13,9 +13,17 @@
 
 namespace consph {
 
+namespace {
+std::vector<Real> frictionOf(const std::vector<BoundaryObject>& objects) {
+  std::vector<Real> friction;
+  for (const BoundaryObject& o : objects) friction.push_back(o.friction);
+  return friction;
+}
+}  // namespace
+
 RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, const BoundarySamples& samples,
                                  std::vector<Real> layerDepth, Real minContactDistance, const LogSink& log)
-    : contact_(std::move(layerDepth), minContactDistance) {
+    : contact_(std::move(layerDepth), frictionOf(objects), minContactDistance) {
   bodyOfObject_.assign(objects.size(), kNone);
   for (std::size_t o = 0; o < objects.size(); ++o) {
     const BoundaryObject& obj = objects[o];

@@ -88,7 +88,8 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
       const Vector3r normal = direction.normalized();
       const Real gap = (xk - mean / weightSum).dot(normal) - std::max(layerDepth_[object] + layerDepth_[closestObject], minDistance_);
       if (gap < margin)
-        perThread_[std::size_t(omp_get_thread_num())].push_back({Index(b), bodyOfObject[closestObject], k, closestSample, normal, gap, 0});
+        perThread_[std::size_t(omp_get_thread_num())].push_back(
+            {Index(b), bodyOfObject[closestObject], k, closestSample, normal, gap, std::sqrt(friction_[object] * friction_[closestObject])});
     }
   }
   std::vector<Contact> contacts;
@@ -101,34 +102,54 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
     if (body == kNone) return samples.velocities[sample];  // static: zero; kinematic: its own
     return bodies[body].velocityAt(samples.positions[sample]);
   };
+  // An impulse J on body a at sample k (and -J on the other body at sample l, when it is free).
+  auto applyImpulse = [&](const Contact& c, const Vector3r& J) {
+    RigidBody& a = bodies[c.body];
+    a.v += J / a.mass;
+    a.w += invInertia[c.body] * (samples.positions[c.k] - a.x).cross(J);
+    if (c.other != kNone && solvable[c.other]) {
+      RigidBody& o = bodies[c.other];
+      o.v -= J / o.mass;
+      o.w -= invInertia[c.other] * (samples.positions[c.l] - o.x).cross(J);
+    }
+  };
+  // The change of the relative velocity along unit d per unit impulse along d.
+  auto inverseMassAlong = [&](const Contact& c, const Vector3r& d) {
+    const RigidBody& a = bodies[c.body];
+    const Vector3r raXd = (samples.positions[c.k] - a.x).cross(d);
+    Real inverse = 1 / a.mass + raXd.dot(invInertia[c.body] * raXd);
+    if (c.other != kNone && solvable[c.other]) {
+      const RigidBody& o = bodies[c.other];
+      const Vector3r rbXd = (samples.positions[c.l] - o.x).cross(d);
+      inverse += 1 / o.mass + rbXd.dot(invInertia[c.other] * rbXd);
+    }
+    return inverse;
+  };
   for (int it = 0; it < kIterations; ++it)
     for (Contact& c : contacts) {
-      RigidBody& a = bodies[c.body];
-      const bool otherFree = c.other != kNone && solvable[c.other];
-      const Vector3r ra = samples.positions[c.k] - a.x;
-      const Vector3r raXn = ra.cross(c.normal);
-      Real effectiveMass = 1 / a.mass + raXn.dot(invInertia[c.body] * raXn);
-      Vector3r rbXn = Vector3r::Zero();
-      if (otherFree) {
-        const RigidBody& o = bodies[c.other];
-        rbXn = (samples.positions[c.l] - o.x).cross(c.normal);
-        effectiveMass += 1 / o.mass + rbXn.dot(invInertia[c.other] * rbXn);
-      }
-      const Vector3r vb = velocityAt(c.other, c.l);
-      const Real normalVelocity = (a.velocityAt(samples.positions[c.k]) - vb).dot(c.normal);
+      const Vector3r relative = bodies[c.body].velocityAt(samples.positions[c.k]) - velocityAt(c.other, c.l);
       // Closing speed allowed: the gap left (>= 0), or a bounded push-out speed once overlapping.
       const Real target = c.gap >= 0 ? -c.gap / dt : -kPushOutRate * c.gap / dt;
-      const Real updated = std::max(c.impulse + (target - normalVelocity) / effectiveMass, Real(0));
+      const Real updated =
+          std::max(c.impulse + (target - relative.dot(c.normal)) / inverseMassAlong(c, c.normal), Real(0));
       const Real delta = updated - c.impulse;
       c.impulse = updated;
-      if (delta == 0) continue;
-      a.v += (delta / a.mass) * c.normal;
-      a.w += invInertia[c.body] * (delta * raXn);
-      if (otherFree) {
-        RigidBody& o = bodies[c.other];
-        o.v -= (delta / o.mass) * c.normal;
-        o.w -= invInertia[c.other] * (delta * rbXn);
+      if (delta != 0) applyImpulse(c, delta * c.normal);
+      if (c.friction <= 0 || (c.impulse == 0 && c.tangentImpulse.isZero())) continue;
+      // Friction: the impulse that stops the tangential slip, then back into the cone.
+      const Vector3r now = bodies[c.body].velocityAt(samples.positions[c.k]) - velocityAt(c.other, c.l);
+      const Vector3r slip = now - now.dot(c.normal) * c.normal;
+      const Real slipSpeed = slip.norm();
+      Vector3r tangentImpulse = c.tangentImpulse;
+      if (slipSpeed > 0) {
+        const Vector3r t = slip / slipSpeed;
+        tangentImpulse -= (slipSpeed / inverseMassAlong(c, t)) * t;
       }
+      const Real limit = c.friction * c.impulse, magnitude = tangentImpulse.norm();
+      if (magnitude > limit) tangentImpulse *= limit / magnitude;
+      const Vector3r change = tangentImpulse - c.tangentImpulse;
+      c.tangentImpulse = tangentImpulse;
+      if (!change.isZero()) applyImpulse(c, change);
     }
   return contacts.size();
 }

@@ -1,11 +1,12 @@
 // Simple rigid contact: dynamic bodies against static objects, animated or hinged bodies and
-// each other, through their boundary samples. Frictionless, velocity level, solved before the
-// bodies move: for every sample of a free dynamic body near a sample of another object, the
-// relative normal velocity may close at most the remaining gap this step and pushes apart at a
-// bounded rate when the layers already overlap (sequential impulses, accumulated and clamped
-// non-negative, so contacts only push). Enough that a body that sinks rests on the floor
-// instead of passing through it; not a general rigid-body solver (no friction, no stacking
-// guarantees).
+// each other, through their boundary samples. Velocity level, solved before the bodies move: for
+// every sample of a free dynamic body near a sample of another object, the relative normal
+// velocity may close at most the remaining gap this step and pushes apart at a bounded rate when
+// the layers already overlap (sequential impulses, accumulated and clamped non-negative, so
+// contacts only push); Coulomb friction opposes the tangential velocity with an accumulated
+// impulse kept inside the cone |J_t| <= mu J_n (mu = sqrt(mu_a mu_b) of the two objects'
+// "friction"). Enough that a body that sinks rests on the floor instead of passing through it
+// and a sliding one stops; not a general rigid-body solver (no stacking guarantees).
 #pragma once
 #include <vector>
 
@@ -19,7 +20,9 @@ class RigidContact {
  public:
   // `layerDepth[o]`: how far object o's samples lie inside its solid; two objects touch when
   // their sample layers are layerDepth[a] + layerDepth[b] apart (at least `minDistance`).
-  RigidContact(std::vector<Real> layerDepth, Real minDistance) : layerDepth_(std::move(layerDepth)), minDistance_(minDistance) {}
+  // `friction[o]`: object o's Coulomb coefficient.
+  RigidContact(std::vector<Real> layerDepth, std::vector<Real> friction, Real minDistance)
+      : layerDepth_(std::move(layerDepth)), friction_(std::move(friction)), minDistance_(minDistance) {}
 
   // Changes the velocities of the bodies with solvable[b] (free dynamic bodies); every other
   // body is an obstacle moving with its own velocity. `bodyOfObject[o]`: o's body or kNone.
@@ -37,7 +40,9 @@ class RigidContact {
     Index k, l;         // the two samples
     Vector3r normal;    // from l to k
     Real gap;           // distance minus contact distance (negative: overlap)
+    Real friction;      // Coulomb coefficient of the pair
     Real impulse = 0;   // accumulated normal impulse
+    Vector3r tangentImpulse = Vector3r::Zero();  // accumulated friction impulse
   };
   // Calls f(l, x_l) for every sample l within `radius` of p: static samples from a grid built
   // once (they never move), moving ones from a grid rebuilt every step.
@@ -48,7 +53,7 @@ class RigidContact {
     if (withMoving) movingGrid_.forEachNeighbor(p, radius, [&](Index j, const Vector3r& x) { f(movingIndex_[j], x); });
   }
 
-  std::vector<Real> layerDepth_;
+  std::vector<Real> layerDepth_, friction_;
   Real minDistance_;
   bool staticBuilt_ = false;
   PointGrid staticGrid_, movingGrid_;

@@ -44,6 +44,7 @@ struct BoundaryObject {
   Vector3r velocity = Vector3r::Zero();         // m/s
   Vector3r angularVelocity = Vector3r::Zero();  // rad/s
   HingeDescription hinge;                       // dynamic bodies only
+  Real friction = Real(0.5);  // Coulomb coefficient in rigid contact; a pair uses sqrt(mu_a mu_b)
 };
 
 class BoundaryModel {

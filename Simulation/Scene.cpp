@@ -163,12 +163,15 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
             {"inverted", ParamType::Bool, false, "the fluid is inside the object (a container)"},
             {"dynamic", ParamType::Bool, false, "a rigid body moved by gravity and the fluid (two-way coupling)"},
             {"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity of a dynamic body's centre of mass, m/s"},
-            {"angularVelocity", ParamType::Vector3, json::array({0, 0, 0}), "initial angular velocity of a dynamic body, rad/s"}},
+            {"angularVelocity", ParamType::Vector3, json::array({0, 0, 0}), "initial angular velocity of a dynamic body, rad/s"},
+            {"friction", ParamType::Real, 0.5,
+             "Coulomb friction coefficient in rigid contact (a pair of objects uses sqrt(mu_a mu_b); 0: frictionless)", 0, 10}},
            log, {"box", "animated", "hinge", "density"});
   BoundaryObject o;
   o.name = p.string("name");
   o.path = path;
   o.inverted = p.boolean("inverted");
+  o.friction = p.real("friction");
   parseBodyMotion(b, p, o, log);
   const Vector3r translation = p.vector3("translation"), scale = p.vector3("scale"), axis = p.vector3("rotationAxis");
   const Real angle = p.real("rotationAngle");
