@@ -149,7 +149,7 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
       if (magnitude > limit) tangentImpulse *= limit / magnitude;
       const Vector3r change = tangentImpulse - c.tangentImpulse;
       c.tangentImpulse = tangentImpulse;
-      if (!change.isZero()) applyImpulse(c, change);
+      if (change != Vector3r::Zero()) applyImpulse(c, change);
     }
   return contacts.size();
 }
