@@ -27,6 +27,17 @@ inline std::unique_ptr<Simulation> simulationFromJson(json scene, const LogSink&
 
 inline std::string dataPath(const std::string& relative) { return std::string(CONSPH_TEST_DATA_DIR) + "/" + relative; }
 
+// Least-squares line y = slope x + intercept through the points added (pressure against height
+// or depth in the hydrostatic and buoyancy tests).
+struct LineFit {
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  void add(double x, double y) {
+    n += 1, sx += x, sy += y, sxx += x * x, sxy += x * y;
+  }
+  double slope() const { return (n * sxy - sx * sy) / (n * sxx - sx * sx); }
+  double intercept() const { return (sy - slope() * sx) / n; }
+};
+
 // The free surface height: the mean height of the `layerCount` highest particles (the top
 // layer) plus half a particle spacing. A mean over the layer is robust to one particle riding
 // on top of the others.

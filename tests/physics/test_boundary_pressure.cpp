@@ -67,17 +67,16 @@ ColumnResult runColumn(const std::string& solver, const std::string& treatment) 
     return std::min({x[0], kWidth - x[0], x[2], kWidth - x[2], x[1]});
   };
   // Least-squares line p = a - b y over the interior.
-  double sy = 0, sp = 0, syy = 0, syp = 0;
-  int m = 0;
+  test::LineFit fit;
   std::vector<std::size_t> interior;
   for (std::size_t i = 0; i < n; ++i) {
     const Vector3r& x = f.positions[i];
     if (wallDistance(x) < 4 * kR || x[1] > topLayer - 4 * kR) continue;
     interior.push_back(i);
-    sy += x[1], sp += f.pressures[i], syy += x[1] * x[1], syp += x[1] * f.pressures[i], ++m;
+    fit.add(x[1], f.pressures[i]);
   }
-  EXPECT_GT(m, 30);
-  const double b = -(m * syp - sy * sp) / (m * syy - sy * sy), a = (sp + b * sy) / m;
+  EXPECT_GT(interior.size(), 30u);
+  const double b = -fit.slope(), a = fit.intercept();
   ColumnResult r{Real(b), Real(a / b), topLayer, 0, 0, maxSpeed};
   // Interior slabs one particle diameter thick: mean pressure against rho0 g (surface - y).
   std::map<int, std::pair<double, double>> slabs;  // slab -> (sum p, sum rho0 g h)

@@ -39,7 +39,7 @@ PressureProfile measurePressureProfile(Simulation& sim, Real boxWidth) {
   PressureProfile out;
   double pSum[PressureProfile::bins] = {}, depthSum[PressureProfile::bins] = {};
   int count[PressureProfile::bins] = {};
-  double fitN = 0, fitD = 0, fitP = 0, fitDD = 0, fitDP = 0;  // least squares p = a depth + b
+  test::LineFit fit;  // least squares p = a depth + b
   while (sim.time() < 2 - Real(1e-6)) {
     sim.step();
     const auto& s = sim.pressureSolver().stats();
@@ -56,11 +56,7 @@ PressureProfile measurePressureProfile(Simulation& sim, Real boxWidth) {
       pSum[bin] += p;
       depthSum[bin] += depth;
       ++count[bin];
-      fitN += 1;
-      fitD += depth;
-      fitP += p;
-      fitDD += depth * depth;
-      fitDP += depth * p;
+      fit.add(depth, p);
     }
   }
   for (int b = 0; b < PressureProfile::bins; ++b) {
@@ -69,9 +65,8 @@ PressureProfile measurePressureProfile(Simulation& sim, Real boxWidth) {
     std::printf("hydrostatic: depth %.2f m: p / (rho0 g depth) = %.4f\n", count[b] ? depthSum[b] / count[b] : 0, out.ratio[b]);
   }
   out.trueDensityError = (sim.stats().densityErrorSum - errorSumBefore) / double(sim.stats().densityErrorSamples - samplesBefore);
-  const double slope = (fitN * fitDP - fitD * fitP) / (fitN * fitDD - fitD * fitD);
-  out.slope = slope / (rho0 * g);
-  out.intercept = (fitP - slope * fitD) / fitN;
+  out.slope = fit.slope() / (rho0 * g);
+  out.intercept = fit.intercept();
   std::printf("hydrostatic: dp/d(depth) = %.4f rho0 g, p(surface) = %.1f Pa\n", out.slope, out.intercept);
   return out;
 }

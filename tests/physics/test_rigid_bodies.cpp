@@ -13,6 +13,7 @@
 #include <numbers>
 
 #include "Simulation/Simulation.h"
+#include "TestUtil.h"
 
 using namespace consph;
 
@@ -93,15 +94,13 @@ Real colourFieldLevel(const FluidModel& f, const CubicSplineKernel& kernel, Real
 // least-squares line p(y) through the particles outside `radius` from the body, between 6 r
 // above the floor and 6 r under `surface`.
 Real pressureZeroLevel(const FluidModel& f, Real r, const Vector3r& body, Real radius, Real surface) {
-  double n = 0, sy = 0, sp = 0, syy = 0, syp = 0;
+  test::LineFit fit;
   for (std::size_t i = 0; i < f.size(); ++i) {
     const Vector3r& x = f.positions[i];
     if (std::hypot(x[0] - body[0], x[2] - body[2]) < radius || x[1] < 6 * r || x[1] > surface - 6 * r) continue;
-    const double p = f.pressures[i];
-    n += 1, sy += x[1], sp += p, syy += double(x[1]) * x[1], syp += x[1] * p;
+    fit.add(x[1], f.pressures[i]);
   }
-  const double slope = (n * syp - sy * sp) / (n * syy - sy * sy), intercept = (sp - slope * sy) / n;
-  return Real(-intercept / slope);
+  return Real(-fit.intercept() / fit.slope());
 }
 
 // The fraction of a box body (edges `size`, centred on its centre of mass) below the plane
