@@ -102,6 +102,10 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
     if (body == kNone) return samples.velocities[sample];  // static: zero; kinematic: its own
     return bodies[body].velocityAt(samples.positions[sample]);
   };
+  // Velocity of body a at sample k relative to the other object at sample l.
+  auto relativeVelocity = [&](const Contact& c) -> Vector3r {
+    return bodies[c.body].velocityAt(samples.positions[c.k]) - velocityAt(c.other, c.l);
+  };
   // An impulse J on body a at sample k (and -J on the other body at sample l, when it is free).
   auto applyImpulse = [&](const Contact& c, const Vector3r& J) {
     RigidBody& a = bodies[c.body];
@@ -127,7 +131,7 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
   };
   for (int it = 0; it < kIterations; ++it)
     for (Contact& c : contacts) {
-      const Vector3r relative = bodies[c.body].velocityAt(samples.positions[c.k]) - velocityAt(c.other, c.l);
+      const Vector3r relative = relativeVelocity(c);
       // Closing speed allowed: the gap left (>= 0), or a bounded push-out speed once overlapping.
       const Real target = c.gap >= 0 ? -c.gap / dt : -kPushOutRate * c.gap / dt;
       const Real updated =
@@ -135,9 +139,9 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
       const Real delta = updated - c.impulse;
       c.impulse = updated;
       if (delta != 0) applyImpulse(c, delta * c.normal);
-      if (c.friction <= 0 || (c.impulse == 0 && c.tangentImpulse.isZero())) continue;
+      if (c.friction <= 0 || (c.impulse == 0 && c.tangentImpulse == Vector3r::Zero())) continue;
       // Friction: the impulse that stops the tangential slip, then back into the cone.
-      const Vector3r now = bodies[c.body].velocityAt(samples.positions[c.k]) - velocityAt(c.other, c.l);
+      const Vector3r now = relativeVelocity(c);
       const Vector3r slip = now - now.dot(c.normal) * c.normal;
       const Real slipSpeed = slip.norm();
       Vector3r tangentImpulse = c.tangentImpulse;
