@@ -58,10 +58,10 @@ std::vector<ParamSpec> ParticleBoundary_Akinci2012::parameters() {
            "distance the sample layer is moved into the solid, in r; -1: computed so the resting fluid's "
            "surface lies on the mesh; 0: samples on the mesh (Akinci 2012)",
            -1.0, 4.0},
-          {"offsetObjects", ParamType::String, "moving",
-           "which objects get the surface offset: moving (dynamic and animated bodies, whose buoyancy depends on "
-           "it), all, or none",
-           -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"moving", "all", "none"}}};
+          {"offsetObjects", ParamType::String, "auto",
+           "which objects get the surface offset: auto (moving bodies, and static objects the initial fluid reaches: "
+           "a block drawn up to a wall), moving (dynamic and animated bodies, whose buoyancy depends on it), all, or none",
+           -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"auto", "moving", "all", "none"}}};
 }
 
 ParticleBoundary_Akinci2012::ParticleBoundary_Akinci2012(const Params& params, Real particleRadius, Real fluidSpacing)
@@ -108,27 +108,48 @@ Real ParticleBoundary_Akinci2012::restDistance(const CubicSplineKernel& kernel, 
   return Real(0.5) * (lo + hi);
 }
 
-void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& objects, Real density0,
+std::vector<Vector3r> ParticleBoundary_Akinci2012::sampleObject(const BoundaryObject& o, Real offset) const {
+  return o.isBox ? sampleBoxSurface(offsetBox(o, offset, samplingDistance_, true), offsetBox(o, offset, samplingDistance_, false),
+                                    samplingDistance_)
+                 : sampleMeshSurface(o.mesh, samplingDistance_, meshNormalOffset(o, offset));
+}
+
+bool ParticleBoundary_Akinci2012::fluidReaches(const std::vector<Vector3r>& surfacePoints, const FluidModel& fluid,
+                                               Real supportRadius) const {
+  // A block drawn up to the surface has its outer lattice layer d/2 from it, its nearest sample
+  // at most sqrt(d^2 / 4 + s^2 / 2) away (0.63 d at the default sampling s = r); a block kept
+  // d/2 or more off the surface has every particle at least d from every sample.
+  const Real reach = Real(0.95) * fluidSpacing_;
+  if (surfacePoints.empty() || fluid.size() == 0) return false;
+  PointGrid grid;
+  grid.build(surfacePoints.data(), surfacePoints.size(), std::max(supportRadius, reach));
+  bool found = false;  // each thread's copy starts false (the identity of ||)
+#pragma omp parallel for schedule(static) reduction(|| : found)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(fluid.size()); ++i)
+    if (!found) grid.forEachNeighbor(fluid.positions[i], reach, [&](Index, const Vector3r&) { found = true; });
+  return found;
+}
+
+void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid,
                                              const CubicSplineKernel& kernel) {
   samples_ = BoundarySamples();
   layerDepths_.clear();
+  const Real density0 = fluid.density0();
   const Real surfaceOffset = requestedOffset_ >= 0
                        ? requestedOffset_
                        : std::max(Real(0), restDistance(kernel, samplingDistance_, fluidSpacing_) - Real(0.5) * fluidSpacing_);
-  const bool anyOffset = std::any_of(objects.begin(), objects.end(), [&](const BoundaryObject& o) { return offsets(o); });
-  if (requestedOffset_ < 0 && anyOffset && log_) {
-    char line[200];
-    std::snprintf(line, sizeof(line), "Akinci2012: sample layers of %s objects %.3g r inside the solids (the resting fluid's surface on the meshes)",
-                  offsetObjects_.c_str(), double(surfaceOffset / particleRadius_));
-    log_(LogLevel::Info, line);
-  }
+  std::string offsetNames;  // for the log: which objects moved their layer, and why
   for (std::size_t b = 0; b < objects.size(); ++b) {
     const BoundaryObject& o = objects[b];
-    const Real offset = offsets(o) ? surfaceOffset : Real(0);
+    std::vector<Vector3r> points = sampleObject(o, 0);
+    const bool touched = offsetObjects_ == "auto" && o.motion == BodyMotion::Static && surfaceOffset > 0 &&
+                         fluidReaches(points, fluid, kernel.supportRadius());
+    const Real offset = offsets(o, touched) ? surfaceOffset : Real(0);
+    if (offset > 0) {
+      points = sampleObject(o, offset);
+      offsetNames += (offsetNames.empty() ? "" : ", ") + (o.name.empty() ? o.path : o.name) + (touched ? " (the fluid starts at it)" : "");
+    }
     layerDepths_.push_back(offset);
-    std::vector<Vector3r> points = o.isBox ? sampleBoxSurface(offsetBox(o, offset, samplingDistance_, true),
-                                                              offsetBox(o, offset, samplingDistance_, false), samplingDistance_)
-                                           : sampleMeshSurface(o.mesh, samplingDistance_, meshNormalOffset(o, offset));
     // Z-order within the object: neighbours in space become neighbours in memory.
     const auto order = zOrderPermutation(points.data(), points.size(), kernel.supportRadius());
     const std::size_t base = samples_.size();
@@ -148,11 +169,19 @@ void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& 
       samples_.masses[base + i] = density0 / sum;  // m~_k = rho0 V_k
     }
   }
+  if (!offsetNames.empty() && log_) {
+    char line[160];
+    std::snprintf(line, sizeof(line), "Akinci2012: sample layers %.3g r inside the solids (the resting fluid's surface on the meshes) of: ",
+                  double(surfaceOffset / particleRadius_));
+    log_(LogLevel::Info, line + offsetNames);
+  }
   moved_ = true;
 }
 
-bool ParticleBoundary_Akinci2012::offsets(const BoundaryObject& o) const {
-  return offsetObjects_ == "all" || (offsetObjects_ == "moving" && o.motion != BodyMotion::Static);
+bool ParticleBoundary_Akinci2012::offsets(const BoundaryObject& o, bool touched) const {
+  if (offsetObjects_ == "all") return true;
+  if (offsetObjects_ == "none") return false;
+  return o.motion != BodyMotion::Static || touched;  // "moving", "auto"
 }
 
 void ParticleBoundary_Akinci2012::findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) {

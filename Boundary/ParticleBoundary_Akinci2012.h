@@ -11,9 +11,13 @@
 // more and floats too high (the often reported need for bodies several times denser than water
 // to sink). By default the layers of moving bodies are moved D - d/2 into the solid, computed
 // for the scene's kernel, sampling and lattice (restDistance), so the fluid's surface lies on
-// their meshes. Static objects keep their samples on the mesh unless `offsetObjects` is "all":
-// for a container the gap only narrows it by about one radius per wall, and the bundled scenes
-// and validation tests place their fluid for samples on the mesh.
+// their meshes. A static object keeps its samples on the mesh (for a container the gap only
+// narrows it by about one radius per wall, and the bundled scenes and validation tests place
+// their fluid for samples on the mesh) unless the initial fluid reaches it: a block drawn up to
+// a wall puts its outer lattice layer d/2 from the surface, deep inside the layer D the fluid
+// keeps from samples on the mesh (1.78 rho0 in a corner), and the push-out through a concave
+// corner blew every such run up. Then ("auto", the default) that object's layer moves D - d/2
+// into the solid as well, and the block starts at rest density.
 #pragma once
 #include "Simulation/BoundaryModel.h"
 #include "Simulation/Params.h"
@@ -23,7 +27,7 @@ namespace consph {
 class ParticleBoundary_Akinci2012 final : public BoundaryModel {
  public:
   ParticleBoundary_Akinci2012(const Params& params, Real particleRadius, Real fluidSpacing);
-  void initialize(const std::vector<BoundaryObject>& objects, Real density0, const CubicSplineKernel& kernel) override;
+  void initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid, const CubicSplineKernel& kernel) override;
   void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
   Real layerDepth(std::size_t object) const override { return object < layerDepths_.size() ? layerDepths_[object] : Real(0); }
 
@@ -36,13 +40,17 @@ class ParticleBoundary_Akinci2012 final : public BoundaryModel {
   void setLog(const LogSink& log) { log_ = log; }
 
  private:
-  bool offsets(const BoundaryObject& o) const;  // does o's layer move into the solid?
+  // Does o's layer move into the solid? `touched`: the initial fluid reaches o's surface.
+  bool offsets(const BoundaryObject& o, bool touched) const;
+  // Does a particle of `fluid` start within 3/4 of a lattice spacing of `surfacePoints`?
+  bool fluidReaches(const std::vector<Vector3r>& surfacePoints, const FluidModel& fluid, Real supportRadius) const;
+  std::vector<Vector3r> sampleObject(const BoundaryObject& o, Real offset) const;
 
   Real particleRadius_;
   Real samplingDistance_;  // m
   Real fluidSpacing_;      // m, the fluid lattice spacing d
   Real requestedOffset_;   // m; negative: computed, D - d/2
-  std::string offsetObjects_;  // "moving", "all" or "none"
+  std::string offsetObjects_;  // "auto", "moving", "all" or "none"
   std::vector<Real> layerDepths_;  // per object, m
   LogSink log_;
   PointGrid grid_;

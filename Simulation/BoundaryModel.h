@@ -50,7 +50,9 @@ struct BoundaryObject {
 class BoundaryModel {
  public:
   virtual ~BoundaryModel() = default;
-  virtual void initialize(const std::vector<BoundaryObject>& objects, Real density0, const CubicSplineKernel& kernel) = 0;
+  // `fluid` holds the initial particles (after the blocks are sampled): a model may place its
+  // samples where that fluid can rest (the Akinci model's "auto" surface offset).
+  virtual void initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid, const CubicSplineKernel& kernel) = 0;
   // Fills fluid i -> boundary sample k lists (with cached kernel gradients).
   virtual void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) = 0;
   // How far object o's samples lie inside its solid (0: on its surface); rigid contact uses it.

@@ -24,7 +24,7 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
                               scene_.particleSpacing * scene_.particleRadius};
   boundaryModel_ = plugins_.boundaryModels.create(scene_.boundaryModel["type"].get<std::string>(), scene_.boundaryModel,
                                                   "simulation.boundaryModel", context, log_);
-  boundaryModel_->initialize(scene_.boundaries, fluid_->density0(), kernel_);
+  boundaryModel_->initialize(scene_.boundaries, *fluid_, kernel_);
   for (const BoundaryObject& o : scene_.boundaries)
     if (o.motion != BodyMotion::Static) {
       std::vector<Real> layerDepth(scene_.boundaries.size());

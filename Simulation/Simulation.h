@@ -55,6 +55,7 @@ class Simulation {
   FluidModel& fluid() { return *fluid_; }
   const FluidModel& fluid() const { return *fluid_; }
   BoundarySamples& boundary() { return boundaryModel_->samples(); }
+  const BoundaryModel& boundaryModel() const { return *boundaryModel_; }
   const SceneDescription& scene() const { return scene_; }
   const SimulationStats& stats() const { return stats_; }
   PressureSolver& pressureSolver() { return *pressureSolver_; }

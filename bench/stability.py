@@ -8,7 +8,10 @@ ran to the end or stopped with a blow-up (the simulation's own error: step, time
   A  a 1 m deep, 0.2 m wide column dropped from rest, r = 0.006 (22 528 particles, 88 layers):
      the start-up of a deep column;
   B  a 0.4 x 0.2 x 0.4 m block filling its tank to the walls, every sample layer offset
-     ("offsetObjects": "all"), r = 0.005 (38 829 particles), maximum step 2 ms.
+     ("offsetObjects": "all"), r = 0.005 (38 829 particles), maximum step 2 ms;
+  C  the same block with the scene defaults (5 ms, CFL 1, "offsetObjects": "auto") at
+     r = 0.025 and 0.0075, against the tank's samples kept on the mesh ("moving", the default
+     before "auto"): how a fluid drawn up to its container's walls starts.
 
 Prints a table with the machine, thread count and precision. Nothing here is asserted: it maps
 the stable region so that the limits in docs/scene-format.md are measured, not guessed.
@@ -65,6 +68,14 @@ def variants():
         s = block_scene()
         s["simulation"].update(change)
         out.append(("B block to the walls, r = 0.005", label, s))
+    for r in (0.025, 0.0075):
+        for label, offset in (('defaults ("auto")', None), ('samples on the mesh ("moving")', "moving")):
+            s = block_scene()
+            s["simulation"].update({"particleRadius": r, "maxTimeStep": 0.005})
+            del s["simulation"]["boundaryModel"]
+            if offset:
+                s["simulation"]["boundaryModel"] = {"type": "Akinci2012", "offsetObjects": offset}
+            out.append(("C block to the walls, r = %g" % r, label, s))
     return out
 
 

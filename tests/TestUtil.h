@@ -11,10 +11,11 @@
 namespace consph::test {
 
 struct CapturedLog {
-  std::vector<std::string> warnings;
+  std::vector<std::string> warnings, infos;
   LogSink sink() {
     return [this](LogLevel level, const std::string& text) {
       if (level == LogLevel::Warning) warnings.push_back(text);
+      if (level == LogLevel::Info) infos.push_back(text);
     };
   }
 };
