@@ -169,5 +169,10 @@ INSTANTIATE_TEST_SUITE_P(Treatments, HydrostaticPressure, ::testing::Values("ext
 // neighbour order); consistent: slope 1.0196 before the dense grid, 1.0237 with it (bins
 // 1.024-1.030: the summation order alone moves a slope by ~0.4 %; its narrow-column test above
 // passes at 1.0184); mirroring: slope 1.0245, then 1.0252, bins 1.028-1.033. Both fail the 2 %.
+// The consistent slope depends on the start packing: the same column with its block drawn up to
+// the walls (the tank's layer then moves 1.2 r into the solid, "auto" offset) reads 1.0099, while
+// mirroring reads 1.0273 in that start too (2026-11-23 evening, a Python replica of this profile
+// that reproduces 1.0237 / 1.0252 for the start above). Not adopted as the test's start: the
+// issue's column is this one, and the criterion should not depend on choosing a start.
 INSTANTIATE_TEST_SUITE_P(DISABLED_AboveTwoPercent, HydrostaticPressure, ::testing::Values("consistent", "mirroring"),
                          [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
