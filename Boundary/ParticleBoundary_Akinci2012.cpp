@@ -141,12 +141,16 @@ void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& 
   std::string offsetNames;  // for the log: which objects moved their layer, and why
   for (std::size_t b = 0; b < objects.size(); ++b) {
     const BoundaryObject& o = objects[b];
-    std::vector<Vector3r> points = sampleObject(o, 0);
-    const bool touched = offsetObjects_ == "auto" && o.motion == BodyMotion::Static && surfaceOffset > 0 &&
-                         fluidReaches(points, fluid, kernel.supportRadius());
+    // "auto": a static object is sampled on its mesh first, to see whether the fluid starts there.
+    std::vector<Vector3r> points;
+    bool touched = false;
+    if (offsetObjects_ == "auto" && o.motion == BodyMotion::Static && surfaceOffset > 0) {
+      points = sampleObject(o, 0);
+      touched = fluidReaches(points, fluid, kernel.supportRadius());
+    }
     const Real offset = offsets(o, touched) ? surfaceOffset : Real(0);
+    if (points.empty() || offset > 0) points = sampleObject(o, offset);
     if (offset > 0) {
-      points = sampleObject(o, offset);
       offsetNames += (offsetNames.empty() ? "" : ", ") + (o.name.empty() ? o.path : o.name) + (touched ? " (the fluid starts at it)" : "");
     }
     layerDepths_.push_back(offset);

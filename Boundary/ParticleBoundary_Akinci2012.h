@@ -42,7 +42,7 @@ class ParticleBoundary_Akinci2012 final : public BoundaryModel {
  private:
   // Does o's layer move into the solid? `touched`: the initial fluid reaches o's surface.
   bool offsets(const BoundaryObject& o, bool touched) const;
-  // Does a particle of `fluid` start within 3/4 of a lattice spacing of `surfacePoints`?
+  // Does a particle of `fluid` start within 0.95 lattice spacings of `surfacePoints`?
   bool fluidReaches(const std::vector<Vector3r>& surfacePoints, const FluidModel& fluid, Real supportRadius) const;
   std::vector<Vector3r> sampleObject(const BoundaryObject& o, Real offset) const;
 
