@@ -169,7 +169,8 @@ std::vector<Vector3r> sampleBoxSurface(const Vector3r& lo, const Vector3r& hi, R
   return points;
 }
 
-Vector3r closestPointOnTriangle(const Vector3r& p, const Vector3r& a, const Vector3r& b, const Vector3r& c) {
+Vector3r closestPointOnTriangle(const Vector3r& p, const Vector3r& a, const Vector3r& b, const Vector3r& c, bool* onFace) {
+  if (onFace) *onFace = false;
   // Voronoi regions of the vertices, edges and face (C. Ericson, Real-Time Collision Detection, 5.1.5).
   const Vector3r ab = b - a, ac = c - a, ap = p - a;
   const Real d1 = ab.dot(ap), d2 = ac.dot(ap);
@@ -186,6 +187,7 @@ Vector3r closestPointOnTriangle(const Vector3r& p, const Vector3r& a, const Vect
   if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
   const Real va = d3 * d6 - d5 * d4;
   if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  if (onFace) *onFace = true;
   const Real denom = Real(1) / (va + vb + vc);
   return a + ab * (vb * denom) + ac * (vc * denom);
 }

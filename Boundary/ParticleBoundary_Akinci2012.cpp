@@ -6,6 +6,7 @@
 
 #include "Boundary/MassProperties.h"
 #include "Boundary/MeshSampling.h"
+#include "Boundary/RestLayer.h"
 #include "Simulation/PluginRegistry.h"
 
 namespace consph {
@@ -79,12 +80,6 @@ Real ParticleBoundary_Akinci2012::restDistance(const CubicSplineKernel& kernel, 
   for (int i = -nw; i <= nw; ++i)
     for (int j = -nw; j <= nw; ++j) wallSum += kernel.W(Vector3r(i * s, j * s, 0));
   const Real sampleMass = Real(1) / wallSum;
-  // The fluid half-lattice's share of the density of a particle in its first layer.
-  const int nf = int(std::ceil(h / d)) + 1;
-  Real fluidDensity = 0;
-  for (int i = -nf; i <= nf; ++i)
-    for (int j = -nf; j <= nf; ++j)
-      for (int k = 0; k <= nf; ++k) fluidDensity += d * d * d * kernel.W(Vector3r(i * d, j * d, k * d));
   // The wall's share at height z, averaged over where the particle sits above the sample grid.
   auto wallDensity = [&](Real z) {
     Real sum = 0;
@@ -98,14 +93,7 @@ Real ParticleBoundary_Akinci2012::restDistance(const CubicSplineKernel& kernel, 
       }
     return sum / count;
   };
-  if (fluidDensity + wallDensity(0) <= 1) return 0;  // not reached for any admissible spacing
-  if (fluidDensity >= 1) return h;
-  Real lo = 0, hi = h;  // the wall's share falls with z
-  for (int it = 0; it < 60; ++it) {
-    const Real mid = Real(0.5) * (lo + hi);
-    (fluidDensity + wallDensity(mid) > 1 ? lo : hi) = mid;
-  }
-  return Real(0.5) * (lo + hi);
+  return consph::restDistance(halfLatticeDensity(kernel, d), h, wallDensity);
 }
 
 std::vector<Vector3r> ParticleBoundary_Akinci2012::sampleObject(const BoundaryObject& o, Real offset) const {

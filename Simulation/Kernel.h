@@ -32,6 +32,15 @@ class CubicSplineKernel {
   }
   Real W(const Vector3r& x) const { return W(x.norm()); }
 
+  // dW/dr at distance r (<= 0).
+  Real dWdr(Real r) const {
+    const Real q = r * invH_;
+    if (q > Real(1)) return Real(0);
+    if (q <= Real(0.5)) return l_ * q * (Real(3) * q - Real(2)) * invH_;
+    const Real t = Real(1) - q;
+    return -l_ * t * t * invH_;
+  }
+
   // grad W(x) with x = x_i - x_j (points from j to i).
   Vector3r gradW(const Vector3r& x) const {
     const Real r = x.norm();

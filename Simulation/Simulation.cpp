@@ -366,6 +366,21 @@ void Simulation::setOutputDirectory(const std::string& dir) {
     cloud.add("mass", b.masses.data(), 1);
     cloud.add("body", b.bodies.data());
     writeFileAtomically((std::filesystem::path(dir) / "boundary.vtu").string(), cloud.serialize());
+  } else if (!scene_.boundaries.empty()) {
+    // An implicit model (volume maps) has no samples: the objects' surfaces instead.
+    TriangleMesh all;
+    std::vector<Index> body;
+    for (std::size_t o = 0; o < scene_.boundaries.size(); ++o) {
+      const TriangleMesh& mesh = scene_.boundaries[o].mesh;
+      const Index base = Index(all.vertices.size());
+      all.vertices.insert(all.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
+      body.insert(body.end(), mesh.vertices.size(), Index(o));
+      for (const auto& t : mesh.triangles) all.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    }
+    VtuPointCloud cloud(all.vertices.data(), all.vertices.size());
+    cloud.setTriangles(all.triangles.data(), all.triangles.size());
+    cloud.add("body", body.data());
+    writeFileAtomically((std::filesystem::path(dir) / "boundary.vtu").string(), cloud.serialize());
   }
   nextFrame_ = std::size_t(std::ceil(time_ * scene_.output.fps - Real(1e-6)));
 }

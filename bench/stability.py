@@ -11,7 +11,8 @@ ran to the end or stopped with a blow-up (the simulation's own error: step, time
      ("offsetObjects": "all"), r = 0.005 (38 829 particles), maximum step 2 ms;
   C  the same block with the scene defaults (5 ms, CFL 1, "offsetObjects": "auto") at
      r = 0.025 and 0.0075, against the tank's samples kept on the mesh ("moving", the default
-     before "auto"): how a fluid drawn up to its container's walls starts.
+     before "auto"): how a fluid drawn up to its container's walls starts;
+  A, B and C again with volume-map walls ("boundaryModel": "VolumeMap", Bender et al. 2019).
 
 Prints a table with the machine, thread count and precision. Nothing here is asserted: it maps
 the stable region so that the limits in docs/scene-format.md are measured, not guessed.
@@ -76,6 +77,12 @@ def variants():
             if offset:
                 s["simulation"]["boundaryModel"] = {"type": "Akinci2012", "offsetObjects": offset}
             out.append(("C block to the walls, r = %g" % r, label, s))
+    for scene_label, s in (("A deep column, r = 0.006", column_scene()), ("B block to the walls, r = 0.005", block_scene()),
+                           ("C block to the walls, r = 0.0075", block_scene())):
+        if scene_label.startswith("C"):
+            s["simulation"].update({"particleRadius": 0.0075, "maxTimeStep": 0.005})
+        s["simulation"]["boundaryModel"] = {"type": "VolumeMap"}
+        out.append((scene_label, "volume maps, consistent, CFL 1, dt <= %g ms" % (1000 * s["simulation"]["maxTimeStep"]), s))
     return out
 
 

@@ -142,22 +142,31 @@ INSTANTIATE_TEST_SUITE_P(DISABLED_OtherTreatments, Hydrostatic, ::testing::Value
 // 5 % high everywhere because no particle is further than 5r from a wall.
 class HydrostaticPressure : public ::testing::TestWithParam<const char*> {};
 
-TEST_P(HydrostaticPressure, AtDepthIsRho0GHInAWideColumn) {
+namespace {
+// The column of Hydrostatic.json in a 1 m wide tank: 20 x 21 x 20 particles.
+std::unique_ptr<Simulation> wideColumn(const std::string& treatment, const std::string& boundaryModel) {
   json scene = readJsonFile(test::dataPath("scenes/Hydrostatic.json"));
-  scene["simulation"]["boundaryPressure"] = GetParam();
+  scene["simulation"]["boundaryPressure"] = treatment;
+  scene["simulation"]["boundaryModel"] = {{"type", boundaryModel}};
   const double width = 1.0, gap = scene["fluids"][0]["blocks"][0]["min"][0].get<double>();
   scene["boundaries"][0]["box"]["max"] = {width, 1.5, width};
   scene["fluids"][0]["blocks"][0]["max"][0] = width - gap;
   scene["fluids"][0]["blocks"][0]["max"][2] = width - gap;
-  std::printf("hydrostatic: boundary pressure %s, 1 m wide\n", GetParam());
-  auto sim = test::simulationFromJson(scene);
-  ASSERT_EQ(sim->fluid().size(), 20u * 21u * 20u);
-  const PressureProfile profile = measurePressureProfile(*sim, Real(width));
+  std::printf("hydrostatic: boundary pressure %s, %s, 1 m wide\n", treatment.c_str(), boundaryModel.c_str());
+  return test::simulationFromJson(scene);
+}
+
+void expectRho0GH(Simulation& sim) {
+  ASSERT_EQ(sim.fluid().size(), 20u * 21u * 20u);
+  const PressureProfile profile = measurePressureProfile(sim, Real(1.0));
   EXPECT_FALSE(profile.hitIterationCap);
   for (int b = 0; b < PressureProfile::bins; ++b) EXPECT_NEAR(profile.ratio[b], 1, 0.03) << "depth bin " << 0.2 + 0.1 * b << " m";
   EXPECT_NEAR(profile.slope, 1, 0.02);
-  EXPECT_EQ(sim->stats().particlesLost, 0u);
+  EXPECT_EQ(sim.stats().particlesLost, 0u);
 }
+}  // namespace
+
+TEST_P(HydrostaticPressure, AtDepthIsRho0GHInAWideColumn) { expectRho0GH(*wideColumn(GetParam(), "Akinci2012")); }
 
 INSTANTIATE_TEST_SUITE_P(Treatments, HydrostaticPressure, ::testing::Values("extrapolation"),
                          [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
@@ -176,3 +185,10 @@ INSTANTIATE_TEST_SUITE_P(Treatments, HydrostaticPressure, ::testing::Values("ext
 // issue's column is this one, and the criterion should not depend on choosing a start.
 INSTANTIATE_TEST_SUITE_P(DISABLED_AboveTwoPercent, HydrostaticPressure, ::testing::Values("consistent", "mirroring"),
                          [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
+
+
+// Volume-map walls (Bender et al. 2019), the default consistent treatment: the same criterion.
+// Measured: slope 0.9992 in this column with the default 2r cells, 0.9925 with r cells (a Python
+// replica of the profile, r cells: mirroring 1.077, extrapolation 0.9955); in the narrow column
+// of Hydrostatic.json, whose interior is never more than 6 r from a wall layer, 0.965 (r cells).
+TEST(HydrostaticPressureVolumeMap, AtDepthIsRho0GHInAWideColumn) { expectRho0GH(*wideColumn("consistent", "VolumeMap")); }

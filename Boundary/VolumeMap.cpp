@@ -1,0 +1,240 @@
+#include "Boundary/VolumeMap.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <limits>
+
+#include "Boundary/MassProperties.h"
+#include "Boundary/MeshSampling.h"
+#include "Boundary/RestLayer.h"
+
+namespace consph {
+
+namespace {
+
+constexpr Real kFar = std::numeric_limits<Real>::max();
+
+// Signed distance to the axis-aligned box [lo, hi], positive outside.
+Real boxDistance(const Vector3r& x, const Vector3r& lo, const Vector3r& hi) {
+  const Vector3r c = Real(0.5) * (lo + hi), half = Real(0.5) * (hi - lo);
+  const Vector3r q = (x - c).cwiseAbs() - half;
+  return q.cwiseMax(Real(0)).norm() + std::min(q.maxCoeff(), Real(0));
+}
+
+}  // namespace
+
+VolumeMap::VolumeMap(const BoundaryObject& object, const CubicSplineKernel& kernel, Real cellSize, Real surfaceOffset)
+    : cell_(cellSize), offset_(surfaceOffset) {
+  if (!object.isBox && object.mesh.triangles.empty()) throw InputError(object.path + ": the mesh has no triangles");
+  const Real h = kernel.supportRadius();
+  // Wide enough that the volume quadrature around every node it integrates stays inside it.
+  band_ = h + 5 * cell_;
+  h_ = h;
+  Vector3r lo, hi;
+  object.mesh.boundingBox(lo, hi);
+  // The grid covers every point within the band of the surface.
+  const Vector3r margin = Vector3r::Constant(band_ + offset_ + cell_);
+  origin_ = lo - margin;
+  for (int a = 0; a < 3; ++a) dims_[a] = int(std::ceil((hi[a] - lo[a] + 2 * margin[a]) / cell_)) + 1;
+  computeDistances(object);
+  computeVolumes(kernel);
+}
+
+void VolumeMap::computeDistances(const BoundaryObject& object) {
+  phi_.assign(std::size_t(dims_[0]) * dims_[1] * dims_[2], kFar);
+  // In the fluid: outside a body's closed surface, inside a container's.
+  const Real fluidSign = object.inverted ? Real(-1) : Real(1);
+  isBox_ = object.isBox;
+  boxMin_ = object.boxMin;
+  boxMax_ = object.boxMax;
+  fluidSign_ = fluidSign;
+  if (object.isBox) {
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < dims_[2]; ++k)
+      for (int j = 0; j < dims_[1]; ++j)
+        for (int i = 0; i < dims_[0]; ++i)
+          phi_[node(i, j, k)] = fluidSign * boxDistance(position(i, j, k), object.boxMin, object.boxMax) + offset_;
+    return;
+  }
+  const TriangleMesh& mesh = object.mesh;
+  // The mesh's orientation, from its signed volume: outward normals give a positive one.
+  Real signedVolume = 0;
+  for (const auto& t : mesh.triangles)
+    signedVolume += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]]));
+  const Real outward = signedVolume >= 0 ? Real(1) : Real(-1);
+  // Unsigned distance within the band: each z-slice (one thread) visits the triangles whose
+  // band-grown bounding box reaches it; the sign from the closest face's normal, or from the
+  // winding number where the closest point is on an edge or a vertex (normals disagree there).
+  // Exact within the band around the moved surface: |Phi + offset| < band.
+  const Real meshBand = band_ + offset_;
+  std::vector<Vector3r> triLo(mesh.triangles.size()), triHi(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    triLo[t] = mesh.vertices[tri[0]].cwiseMin(mesh.vertices[tri[1]]).cwiseMin(mesh.vertices[tri[2]]) - Vector3r::Constant(meshBand);
+    triHi[t] = mesh.vertices[tri[0]].cwiseMax(mesh.vertices[tri[1]]).cwiseMax(mesh.vertices[tri[2]]) + Vector3r::Constant(meshBand);
+  }
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int k = 0; k < dims_[2]; ++k) {
+    const std::size_t slice = std::size_t(dims_[0]) * dims_[1];
+    std::vector<Real> best(slice, meshBand);
+    std::vector<Index> bestTriangle(slice, Index(-1));
+    std::vector<char> bestOnFace(slice, 0);
+    std::vector<Vector3r> bestPoint(slice);
+    const Real z = origin_[2] + cell_ * Real(k);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      if (z < triLo[t][2] || z > triHi[t][2]) continue;
+      const auto& tri = mesh.triangles[t];
+      const Vector3r &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
+      const int i0 = std::max(0, int(std::floor((triLo[t][0] - origin_[0]) / cell_)));
+      const int i1 = std::min(dims_[0] - 1, int(std::ceil((triHi[t][0] - origin_[0]) / cell_)));
+      const int j0 = std::max(0, int(std::floor((triLo[t][1] - origin_[1]) / cell_)));
+      const int j1 = std::min(dims_[1] - 1, int(std::ceil((triHi[t][1] - origin_[1]) / cell_)));
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) {
+          const Vector3r x = position(i, j, k);
+          bool onFace;
+          const Vector3r p = closestPointOnTriangle(x, a, b, c, &onFace);
+          const Real d = (x - p).norm();
+          const std::size_t s = std::size_t(j) * dims_[0] + i;
+          if (d < best[s]) best[s] = d, bestTriangle[s] = Index(t), bestOnFace[s] = onFace, bestPoint[s] = p;
+        }
+    }
+    for (int j = 0; j < dims_[1]; ++j)
+      for (int i = 0; i < dims_[0]; ++i) {
+        const std::size_t s = std::size_t(j) * dims_[0] + i;
+        if (bestTriangle[s] == Index(-1)) continue;  // outside the band
+        const Vector3r x = position(i, j, k);
+        bool insideSurface;
+        if (bestOnFace[s] && best[s] > 0) {
+          const auto& tri = mesh.triangles[bestTriangle[s]];
+          const Vector3r n = (mesh.vertices[tri[1]] - mesh.vertices[tri[0]]).cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
+          insideSurface = outward * n.dot(x - bestPoint[s]) < 0;
+        } else {
+          insideSurface = std::abs(windingNumber(mesh, x)) > Real(0.5);
+        }
+        phi_[std::size_t(k) * slice + s] = (insideSurface ? -fluidSign : fluidSign) * best[s] + offset_;
+      }
+  }
+}
+
+void VolumeMap::computeVolumes(const CubicSplineKernel& kernel) {
+  // Quadrature over the ball |xi| < h: 6 Gauss-Legendre radii (weight r^2) times 64 directions on
+  // a Fibonacci sphere (equal weights 4 pi / 64). gamma is continuous (1 at Phi = 0 from both
+  // sides), so a smooth rule converges (unit test: a half-space against a 1-D integral).
+  const Real h = kernel.supportRadius();
+  static const Real gaussX[6] = {-0.9324695142031521, -0.6612093864662645, -0.2386191860831969,
+                                 0.2386191860831969,  0.6612093864662645,  0.9324695142031521};
+  static const Real gaussW[6] = {0.1713244923791704, 0.3607615730481386, 0.4679139345726910,
+                                 0.4679139345726910, 0.3607615730481386, 0.1713244923791704};
+  constexpr int kDirections = 64;
+  std::vector<Vector3r> offsets;
+  std::vector<Real> weights;
+  const Real golden = Real(M_PI) * (Real(3) - std::sqrt(Real(5)));
+  for (int g = 0; g < 6; ++g) {
+    const Real radius = Real(0.5) * h * (gaussX[g] + 1);
+    const Real radialWeight = Real(0.5) * h * gaussW[g] * radius * radius;
+    for (int d = 0; d < kDirections; ++d) {
+      const Real y = 1 - (Real(d) + Real(0.5)) * Real(2) / kDirections, ring = std::sqrt(1 - y * y);
+      const Real theta = golden * Real(d);
+      offsets.push_back(radius * Vector3r(ring * std::cos(theta), y, ring * std::sin(theta)));
+      weights.push_back(radialWeight * Real(4 * M_PI) / kDirections);
+    }
+  }
+  const Real w0 = kernel.W0(), wholeBall = Real(0.8) * Real(4.0 / 3.0 * M_PI) * h * h * h;
+  volume_.assign(phi_.size(), Real(0));
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int k = 0; k < dims_[2]; ++k)
+    for (int j = 0; j < dims_[1]; ++j)
+      for (int i = 0; i < dims_[0]; ++i) {
+        const std::size_t n = node(i, j, k);
+        if (phi_[n] == kFar || phi_[n] >= h + 2 * cell_) continue;  // out of reach: V = 0
+        if (phi_[n] <= -h) {                                        // the whole ball is solid
+          volume_[n] = wholeBall;
+          continue;
+        }
+        const Vector3r x = position(i, j, k);
+        Real sum = 0;
+        for (std::size_t q = 0; q < offsets.size(); ++q) {
+          const Real phi = exactDistance(x + offsets[q]);  // beyond the band: far in the fluid
+          sum += weights[q] * (phi <= 0 ? Real(1) : (phi < h ? kernel.W(phi) / w0 : Real(0)));
+        }
+        volume_[n] = Real(0.8) * sum;
+      }
+}
+
+Real VolumeMap::exactDistance(const Vector3r& x) const {
+  return isBox_ ? fluidSign_ * boxDistance(x, boxMin_, boxMax_) + offset_ : distance(x);
+}
+
+bool VolumeMap::cellOf(const Vector3r& x, std::size_t corners[8], Real weights[8], Real fractions[3]) const {
+  const Vector3r u = (x - origin_) / cell_;
+  int c[3];
+  for (int a = 0; a < 3; ++a) {
+    const Real fl = std::floor(u[a]);
+    c[a] = int(fl);
+    if (c[a] < 0 || c[a] >= dims_[a] - 1) return false;
+    fractions[a] = u[a] - fl;
+  }
+  for (int corner = 0; corner < 8; ++corner) {
+    const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
+    corners[corner] = node(c[0] + dx, c[1] + dy, c[2] + dz);
+    if (phi_[corners[corner]] == kFar) return false;
+    weights[corner] = (dx ? fractions[0] : 1 - fractions[0]) * (dy ? fractions[1] : 1 - fractions[1]) *
+                      (dz ? fractions[2] : 1 - fractions[2]);
+  }
+  return true;
+}
+
+bool VolumeMap::sample(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume, Vector3r& volumeGradient) const {
+  std::size_t corners[8];
+  Real w[8], f[3];
+  if (!cellOf(x, corners, w, f)) return false;
+  phi = 0;
+  volume = 0;
+  phiGradient.setZero();
+  volumeGradient.setZero();
+  for (int c = 0; c < 8; ++c) {
+    const Real p = phi_[corners[c]], v = volume_[corners[c]];
+    phi += w[c] * p;
+    volume += w[c] * v;
+    // d/dx of the trilinear weights: +-(the other two axes' weights) / cell.
+    const int dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
+    const Real wx = dx ? f[0] : 1 - f[0], wy = dy ? f[1] : 1 - f[1], wz = dz ? f[2] : 1 - f[2];
+    const Vector3r dw((dx ? 1 : -1) * wy * wz, (dy ? 1 : -1) * wx * wz, (dz ? 1 : -1) * wx * wy);
+    phiGradient += p * dw;
+    volumeGradient += v * dw;
+  }
+  phiGradient /= cell_;
+  volumeGradient /= cell_;
+  return phi < h_ && volume > 0 && phiGradient.squaredNorm() > Real(1e-12);
+}
+
+Real VolumeMap::distance(const Vector3r& x) const {
+  std::size_t corners[8];
+  Real w[8], f[3];
+  if (!cellOf(x, corners, w, f)) return kFar;
+  Real phi = 0;
+  for (int c = 0; c < 8; ++c) phi += w[c] * phi_[corners[c]];
+  return phi;
+}
+
+Real VolumeMap::halfSpaceVolume(const CubicSplineKernel& kernel, Real y) {
+  const Real h = kernel.supportRadius(), w0 = kernel.W0();
+  constexpr int kIntervals = 2000;  // Simpson; gamma has a kink at 0 only, error ~1e-6 relative
+  const Real dz = 2 * h / kIntervals;
+  Real sum = 0;
+  for (int i = 0; i <= kIntervals; ++i) {
+    const Real z = -h + dz * Real(i), phi = y + z;
+    const Real gamma = phi <= 0 ? Real(1) : (phi < h ? kernel.W(phi) / w0 : Real(0));
+    sum += (i == 0 || i == kIntervals ? 1 : (i % 2 ? 4 : 2)) * Real(M_PI) * (h * h - z * z) * gamma;
+  }
+  return Real(0.8) * sum * dz / 3;
+}
+
+Real VolumeMap::restDistance(const CubicSplineKernel& kernel, Real r, Real spacing) {
+  return consph::restDistance(halfLatticeDensity(kernel, spacing), kernel.supportRadius(), [&](Real y) {
+    return halfSpaceVolume(kernel, y) * kernel.W(std::max(y + Real(0.5) * r, 2 * r));
+  });
+}
+
+}  // namespace consph

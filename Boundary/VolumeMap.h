@@ -1,0 +1,66 @@
+// The implicit boundary of one object after
+//   J. Bender, T. Kugelstadt, M. Weiler, D. Koschier: Volume maps: an implicit boundary
+//   representation for SPH. ACM SIGGRAPH Conference on Motion, Interaction and Games (MIG), 2019.
+// Two fields on one regular grid around the object, trilinearly interpolated:
+//   Phi(x)  the signed distance to the surface, negative in the solid, positive in the fluid (a
+//           container's inside is fluid);
+//   V(x)    the boundary volume 0.8 * integral over |xi| < h of gamma(Phi(x + xi)) dxi with
+//           gamma = 1 in the solid, W(Phi) / W(0) for 0 < Phi < h, 0 beyond (paper/METHODS.md;
+//           0.8 (2r)^3 is the particle volume, the fluid's convention too).
+// Phi is exact within a band of h + 5 cells around the surface (boxes: everywhere, analytic);
+// V is integrated where a particle can meet the boundary, Phi < h + 2 cells. `surfaceOffset`
+// moves the surface that far into the solid (Phi + offset): the boundary model uses it to put
+// the resting fluid's surface on the mesh.
+#pragma once
+#include <vector>
+
+#include "Simulation/BoundaryModel.h"
+#include "Simulation/Kernel.h"
+
+namespace consph {
+
+class VolumeMap {
+ public:
+  // `cellSize` and `surfaceOffset` in m. Throws InputError for a mesh without triangles.
+  VolumeMap(const BoundaryObject& object, const CubicSplineKernel& kernel, Real cellSize, Real surfaceOffset = 0);
+
+  // V at distance Phi = y from a flat boundary (a half-space), m^3: the 1-D integral
+  // 0.8 * integral over |z| < h of pi (h^2 - z^2) gamma(y + z) dz.
+  static Real halfSpaceVolume(const CubicSplineKernel& kernel, Real y);
+  // The distance from a flat boundary at which a resting lattice's first layer (spacing d) has
+  // rest density with the virtual particle at max(Phi + r/2, 2r): 2.28 r at d = 1.8566 r.
+  static Real restDistance(const CubicSplineKernel& kernel, Real particleRadius, Real spacing);
+
+  // Phi, grad Phi (into the fluid; of length 1 except in cells where two walls' distances meet),
+  // V and grad V at x, all of the trilinear interpolants; false where x is h or more from the
+  // surface, or off the grid.
+  bool sample(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume, Vector3r& volumeGradient) const;
+  // Phi alone (large and positive far from the surface or off the grid).
+  Real distance(const Vector3r& x) const;
+
+  std::size_t nodeCount() const { return phi_.size(); }
+
+ private:
+  std::size_t node(int i, int j, int k) const { return (std::size_t(k) * dims_[1] + j) * dims_[0] + i; }
+  Vector3r position(int i, int j, int k) const { return origin_ + cell_ * Vector3r(Real(i), Real(j), Real(k)); }
+  // Trilinear weights of x's cell (and the cell's fractions); false off the grid or in a cell
+  // with a node outside the exact band.
+  bool cellOf(const Vector3r& x, std::size_t corners[8], Real weights[8], Real fractions[3]) const;
+  void computeDistances(const BoundaryObject& object);
+  void computeVolumes(const CubicSplineKernel& kernel);
+  // Phi where the volume integral needs it: analytic for a box, else interpolated.
+  Real exactDistance(const Vector3r& x) const;
+
+  Vector3r origin_ = Vector3r::Zero();
+  Real cell_ = 0;
+  Real h_ = 0;
+  int dims_[3] = {0, 0, 0};
+  Real band_ = 0;  // |Phi| below this is exact; beyond, nodes hold kFar
+  std::vector<Real> phi_, volume_;
+  bool isBox_ = false;
+  Vector3r boxMin_ = Vector3r::Zero(), boxMax_ = Vector3r::Zero();
+  Real fluidSign_ = 1;
+  Real offset_ = 0;  // m, the surface moved into the solid
+};
+
+}  // namespace consph

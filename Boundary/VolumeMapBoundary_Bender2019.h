@@ -1,0 +1,52 @@
+// Volume-map boundaries after
+//   J. Bender, T. Kugelstadt, M. Weiler, D. Koschier: Volume maps: an implicit boundary
+//   representation for SPH. MIG 2019 (also: Implicit frictional boundary handling for SPH,
+//   IEEE TVCG 2020).
+// Every step, each fluid particle i within h of an object's surface gets one virtual boundary
+// particle of that object at x_b = x_i - max(Phi + r/2, 2r) n, mass rho0 V(x_i) (VolumeMap),
+// which the solvers, the boundary pressure treatments and the forces then use exactly like an
+// Akinci sample (BoundarySamples, rebuilt every step). The virtual particle never comes closer
+// than 2r, where grad W is strong: nothing slips between samples or through a thin layer, and
+// there are no boundary particles to store or to search.
+// Where the boundary is: the resting fluid keeps its first layer D = 2.28 r from the surface (the
+// virtual particle's density against the lattice's, VolumeMap::restDistance), while a lattice
+// particle fills the cube of side d around its centre; so, as for Akinci samples, the surface
+// of an object the initial fluid reaches moves D - d/2 into the solid ("auto"), and a block drawn
+// up to a container's walls starts at rest (without it, such a block blew up at step 13).
+// Static objects only for now: a moving body needs its map in the body's frame and a rigid
+// contact without sample layers; use Akinci2012 for dynamic and animated bodies.
+#pragma once
+#include <memory>
+
+#include "Boundary/VolumeMap.h"
+#include "Simulation/BoundaryModel.h"
+#include "Simulation/Params.h"
+
+namespace consph {
+
+class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
+ public:
+  VolumeMapBoundary_Bender2019(const Params& params, Real particleRadius, Real fluidSpacing, const LogSink& log);
+  void initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid, const CubicSplineKernel& kernel) override;
+  void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
+
+  static std::vector<ParamSpec> parameters();
+  const VolumeMap& map(std::size_t object) const { return *maps_[object]; }
+
+ private:
+  // The virtual particle of object o for a fluid particle at x (position, mass and the pair's
+  // gradient); false if x is h or more from o.
+  bool virtualParticle(std::size_t o, const Vector3r& x, const CubicSplineKernel& kernel, Vector3r& position, Real& mass,
+                       Vector3r& gradient) const;
+
+  Real particleRadius_;
+  Real fluidSpacing_;          // m, the fluid lattice spacing d
+  Real cellSize_;              // m
+  Real requestedOffset_;       // m; negative: computed, D - d/2
+  std::string offsetObjects_;  // "auto", "all" or "none"
+  Real density0_ = 1000;
+  LogSink log_;
+  std::vector<std::unique_ptr<VolumeMap>> maps_;
+};
+
+}  // namespace consph

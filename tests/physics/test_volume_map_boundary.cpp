@@ -1,0 +1,81 @@
+// Volume-map boundaries (Bender et al. 2019) in whole simulations: a block drawn up to its
+// tank's walls starts at rest and settles (the surface offset), and the paper's sphere scene
+// keeps its fluid inside the sphere, a mesh container.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "Simulation/Simulation.h"
+#include "TestUtil.h"
+
+using namespace consph;
+
+namespace {
+Real maxDensity(const FluidModel& f) { return *std::max_element(f.densities.begin(), f.densities.end()); }
+}  // namespace
+
+// The block of ParticleBoundary.ABlockDrawnUpToTheWallsStartsAtRestDensityAndSettles with
+// volume maps. Without the offset its outer layer starts 0.93 r from the walls, inside the
+// 2.28 r the volume map's resting layer keeps, and the run blew up at step 13 (r = 0.025).
+TEST(VolumeMapBoundary, ABlockDrawnUpToTheWallsStartsAtRestDensityAndSettles) {
+  json s = {{"simulation", {{"particleRadius", 0.025}, {"maxTimeStep", 0.005}, {"boundaryModel", "VolumeMap"}}},
+            {"fluids", {{{"forces", {{{"type", "StandardViscosity"}, {"viscosity", 0.01}}}},
+                         {"blocks", {{{"min", {0, 0, 0}}, {"max", {0.4, 0.2, 0.4}}}}}}}},
+            {"boundaries", {{{"name", "tank"}, {"box", {{"min", {0, 0, 0}}, {"max", {0.4, 0.5, 0.4}}}}, {"inverted", true}}}}};
+  test::CapturedLog log;
+  auto sim = test::simulationFromJson(s, log.sink());
+  bool named = false;
+  for (const std::string& line : log.infos) named = named || (line.find("VolumeMap: surfaces") != std::string::npos && line.find("tank") != std::string::npos);
+  EXPECT_TRUE(named);
+  const std::size_t n0 = sim->fluid().size();
+  sim->step();  // the densities of the first step are those of the start lattice
+  const FluidModel& start = sim->fluid();
+  Real floorLayer = 0;  // the bottom layer away from the side walls: a flat wall
+  for (std::size_t i = 0; i < start.size(); ++i) {
+    const Vector3r& x = start.positions[i];
+    if (x[1] < Real(0.03) && std::min(x[0], x[2]) > Real(0.1) && std::max(x[0], x[2]) < Real(0.3))
+      floorLayer = std::max(floorLayer, start.densities[i] / start.density0());
+  }
+  const Real densest = maxDensity(start) / start.density0();
+  // Measured: 1.0023 on the floor; 1.173 in the corners, where the volume map over-estimates
+  // the boundary's density (2.52 everywhere at the walls without the offset).
+  std::printf("volume maps, filled tank: floor layer starts at %.4f rho0, densest particle %.4f rho0\n",
+              double(floorLayer), double(densest));
+  EXPECT_LT(floorLayer, Real(1.01));
+  EXPECT_LT(densest, Real(1.2));
+  sim->run(Real(2.0));
+  const FluidModel& f = sim->fluid();
+  ASSERT_EQ(f.size(), n0);
+  EXPECT_EQ(sim->stats().particlesLost, 0u);
+  double meanSpeed = 0;
+  Real lowest = 1, highest = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    meanSpeed += f.velocities[i].norm();
+    lowest = std::min(lowest, f.positions[i].minCoeff());
+    highest = std::max({highest, f.positions[i][0], f.positions[i][2]});
+  }
+  meanSpeed /= double(f.size());
+  std::printf("volume maps, filled tank at t = 2 s: mean speed %.4f m/s, particles within [%.4f, %.4f] m\n", meanSpeed,
+              double(lowest), double(highest));
+  EXPECT_LT(meanSpeed, 0.03);
+  EXPECT_GT(lowest, 0);
+  EXPECT_LT(highest, 0.4);
+}
+
+// SphereDrop.json (a cube of fluid dropped into a hollow sphere, 760 faces, r = 0.01) for 1 s with
+// volume maps: every particle stays inside the sphere, none reaches within r/2 of its faces.
+TEST(VolumeMapBoundary, SphereDropKeepsTheFluidInsideTheMesh) {
+  json scene = readJsonFile(test::dataPath("scenes/SphereDrop.json"));
+  scene["simulation"]["boundaryModel"] = {{"type", "VolumeMap"}};
+  auto sim = test::simulationFromJson(scene);
+  const std::size_t n0 = sim->fluid().size();
+  sim->run(Real(1.0));
+  const FluidModel& f = sim->fluid();
+  ASSERT_EQ(f.size(), n0);
+  EXPECT_EQ(sim->stats().particlesLost, 0u);
+  Real farthest = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) farthest = std::max(farthest, f.positions[i].norm());
+  const Real r = sim->scene().particleRadius;
+  std::printf("volume maps, sphere drop: farthest particle %.4f m from the centre (sphere radius 0.5 m)\n", double(farthest));
+  EXPECT_LT(farthest, Real(0.5) - r / 2);
+}
