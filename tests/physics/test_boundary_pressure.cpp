@@ -28,10 +28,11 @@ std::unique_ptr<Simulation> makeSimulation(json scene) {
 // A column of 6 x 10 x 6 particles in a tank of 0.36 x 1 x 0.36 m: the lattice's outer particles
 // start 2.2 r from the wall samples, where Akinci walls hold the fluid at rest, so the column
 // starts near equilibrium.
-json columnScene(const std::string& solver, const std::string& treatment) {
+json columnScene(const std::string& solver, const std::string& treatment, const std::string& boundaryModel) {
   json ps = {{"type", solver}, {"maxError", 0.01}};
   if (solver == "IISPH") ps["maxIterations"] = 300;
-  return {{"simulation", {{"particleRadius", kR}, {"maxTimeStep", 0.005}, {"pressureSolver", ps}, {"boundaryPressure", treatment}}},
+  return {{"simulation", {{"particleRadius", kR}, {"maxTimeStep", 0.005}, {"pressureSolver", ps}, {"boundaryPressure", treatment},
+                          {"boundaryModel", boundaryModel}}},
           {"fluids", {{{"density0", kRho0},
                        {"forces", {{{"type", "StandardViscosity"}, {"viscosity", 0.01}}}},
                        {"blocks", {{{"min", {0.03, 0.03, 0.03}}, {"max", {0.33, 0.53, 0.33}}}}}}}},
@@ -48,8 +49,8 @@ struct ColumnResult {
 };
 
 // Interior: >= 4r (one support radius) from the side walls, the bottom and the free surface.
-ColumnResult runColumn(const std::string& solver, const std::string& treatment) {
-  auto sim = makeSimulation(columnScene(solver, treatment));
+ColumnResult runColumn(const std::string& solver, const std::string& treatment, const std::string& boundaryModel = "Akinci2012") {
+  auto sim = makeSimulation(columnScene(solver, treatment, boundaryModel));
   sim->run(Real(2.0));
   const FluidModel& f = sim->fluid();
   const std::size_t n = f.size();
@@ -133,6 +134,19 @@ TEST_P(HydrostaticColumn, DISABLED_PressureAtDepthIsRho0GH) {
 
 TEST(HydrostaticColumnNoise, DISABLED_ConsistentNearWallNoiseIsNoLargerThanMirroring) {
   const ColumnResult consistent = runColumn("DFSPH", "consistent"), mirroring = runColumn("DFSPH", "mirroring");
+  EXPECT_LE(consistent.nearWallNoise, mirroring.nearWallNoise);
+}
+
+// The paper's claim holds with volume-map walls (Bender et al. 2019, the implicit boundary of the
+// paper's Section 4): their virtual particle is stiff enough that the consistent wall layer keeps
+// near hydrostatic pressure, while mirroring's doubled wall term over-pushes it. Measured here:
+// consistent 0.265, mirroring 0.655; in the 1 m column (a Python replica of this measure over
+// 0.5 s) 0.217 and 0.798, against 0.628 and 0.099 with Akinci walls (the disabled test above).
+TEST(HydrostaticColumnNoise, ConsistentNearWallNoiseIsNoLargerThanMirroringWithVolumeMapWalls) {
+  const ColumnResult consistent = runColumn("DFSPH", "consistent", "VolumeMap");
+  const ColumnResult mirroring = runColumn("DFSPH", "mirroring", "VolumeMap");
+  std::printf("volume maps: near-wall noise consistent %.3f, mirroring %.3f\n", double(consistent.nearWallNoise),
+              double(mirroring.nearWallNoise));
   EXPECT_LE(consistent.nearWallNoise, mirroring.nearWallNoise);
 }
 
