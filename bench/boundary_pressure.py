@@ -52,6 +52,8 @@ def run(binary, scene, solver, treatment, args, work):
     cmd = [binary, scene, "--quiet", "--threads", str(args.threads), "--stop-at", str(args.stop_at), "--fps", str(FPS),
            "--set", "output.directory=" + out, "--set", "simulation.boundaryPressure=" + treatment,
            "--set", "simulation.pressureSolver=" + json.dumps(SOLVERS[solver]), "--summary-json", summary]
+    if args.boundary_model:
+        cmd += ["--set", "simulation.boundaryModel.type=" + args.boundary_model]
     t0 = time.time()
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0 and not os.path.exists(summary):
@@ -130,7 +132,11 @@ def main():
     ap.add_argument("--work", default=os.path.join(ROOT, "output", "bench_boundary_pressure"))
     ap.add_argument("--results", default=os.path.join(HERE, "results"))
     ap.add_argument("--analyse-only", action="store_true", help="reuse the runs already in --work")
+    ap.add_argument("--boundary-model", default=None,
+                    help="override the scene's boundary model (e.g. VolumeMap); results get its name as a suffix")
     args = ap.parse_args()
+    suffix = "_" + args.boundary_model.lower() if args.boundary_model else ""
+    args.work += suffix
     os.makedirs(args.work, exist_ok=True)
     os.makedirs(args.results, exist_ok=True)
     scene = json.load(open(args.scene))
@@ -192,11 +198,11 @@ def main():
                          f"whole-fluid noise x{q['noise_all'] / base['noise_all']:.2f}, near-wall scatter x{q['scatter_wall'] / base['scatter_wall']:.2f}")
     text = "\n".join(lines) + "\n"
     print("\n" + text)
-    with open(os.path.join(args.results, "issue3_table.md"), "w") as fh:
+    with open(os.path.join(args.results, f"issue3{suffix}_table.md"), "w") as fh:
         fh.write(text)
     vmax = max(float(np.percentile(f["pressure"], 99.5)) for f, _ in figs.values())
-    figure(figs, r, lambda t: os.path.join(args.results, f"issue3_figure2_{t}.png"), vmax)
-    print("wrote", os.path.join(args.results, "issue3_table.md"), "and issue3_figure2_{" + ",".join(TREATMENTS) + "}.png")
+    figure(figs, r, lambda t: os.path.join(args.results, f"issue3{suffix}_figure2_{t}.png"), vmax)
+    print("wrote", os.path.join(args.results, f"issue3{suffix}_table.md"), f"and issue3{suffix}_figure2_{{" + ",".join(TREATMENTS) + "}.png")
 
 
 if __name__ == "__main__":
