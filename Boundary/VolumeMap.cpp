@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "Boundary/MassProperties.h"
 #include "Boundary/MeshSampling.h"
@@ -27,8 +28,9 @@ VolumeMap::VolumeMap(const BoundaryObject& object, const CubicSplineKernel& kern
     : cell_(cellSize), offset_(surfaceOffset) {
   if (!object.isBox && object.mesh.triangles.empty()) throw InputError(object.path + ": the mesh has no triangles");
   const Real h = kernel.supportRadius();
-  // Wide enough that the volume quadrature around every node it integrates stays inside it.
-  band_ = h + 5 * cell_;
+  // Wide enough that the volume quadrature around every node it integrates (-h < Phi < h + 2
+  // cells, a ball of radius h) stays inside it, whatever the cell size.
+  band_ = 2 * h + 3 * cell_;
   h_ = h;
   Vector3r lo, hi;
   object.mesh.boundingBox(lo, hi);
@@ -37,6 +39,14 @@ VolumeMap::VolumeMap(const BoundaryObject& object, const CubicSplineKernel& kern
   origin_ = lo - margin;
   for (int a = 0; a < 3; ++a) dims_[a] = int(std::ceil((hi[a] - lo[a] + 2 * margin[a]) / cell_)) + 1;
   computeDistances(object);
+  // The offset moves the surface into the solid, but a thin part (a plate, a baffle) keeps a
+  // solid side: at most to one cell short of its mid-plane (its deepest point).
+  Real depth = 0;
+  for (Real p : phi_)
+    if (p != kFar) depth = std::max(depth, -p);
+  offset_ = std::min(offset_, std::max(Real(0), depth - cell_));
+  for (Real& p : phi_)
+    if (p != kFar) p += offset_;
   computeVolumes(kernel);
 }
 
@@ -53,19 +63,24 @@ void VolumeMap::computeDistances(const BoundaryObject& object) {
     for (int k = 0; k < dims_[2]; ++k)
       for (int j = 0; j < dims_[1]; ++j)
         for (int i = 0; i < dims_[0]; ++i)
-          phi_[node(i, j, k)] = fluidSign * boxDistance(position(i, j, k), object.boxMin, object.boxMax) + offset_;
+          phi_[node(i, j, k)] = fluidSign * boxDistance(position(i, j, k), object.boxMin, object.boxMax);
     return;
   }
   const TriangleMesh& mesh = object.mesh;
-  // The mesh's orientation, from its signed volume: outward normals give a positive one.
-  Real signedVolume = 0;
-  for (const auto& t : mesh.triangles)
-    signedVolume += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]]));
+  // The mesh's orientation, from its signed volume: outward normals give a positive one. An open
+  // mesh (a plane, a shell) has no inside: its face normals and winding numbers would disagree
+  // along every edge, so it is refused.
+  const Real signedVolume = computeMassProperties(mesh).volume;
+  Vector3r lo, hi;
+  mesh.boundingBox(lo, hi);
+  if (std::abs(signedVolume) < Real(1e-6) * std::pow((hi - lo).norm(), 3))
+    throw InputError(object.path + ": VolumeMap needs a closed mesh (this one encloses no volume); use \"Akinci2012\" for open surfaces");
   const Real outward = signedVolume >= 0 ? Real(1) : Real(-1);
   // Unsigned distance within the band: each z-slice (one thread) visits the triangles whose
   // band-grown bounding box reaches it; the sign from the closest face's normal, or from the
   // winding number where the closest point is on an edge or a vertex (normals disagree there).
-  // Exact within the band around the moved surface: |Phi + offset| < band.
+  // Exact where the unsigned distance to the mesh is below band + offset (the offset may move
+  // the surface that far).
   const Real meshBand = band_ + offset_;
   std::vector<Vector3r> triLo(mesh.triangles.size()), triHi(mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -112,7 +127,7 @@ void VolumeMap::computeDistances(const BoundaryObject& object) {
         } else {
           insideSurface = std::abs(windingNumber(mesh, x)) > Real(0.5);
         }
-        phi_[std::size_t(k) * slice + s] = (insideSurface ? -fluidSign : fluidSign) * best[s] + offset_;
+        phi_[std::size_t(k) * slice + s] = (insideSurface ? -fluidSign : fluidSign) * best[s];
       }
   }
 }
@@ -129,7 +144,7 @@ void VolumeMap::computeVolumes(const CubicSplineKernel& kernel) {
   constexpr int kDirections = 64;
   std::vector<Vector3r> offsets;
   std::vector<Real> weights;
-  const Real golden = Real(M_PI) * (Real(3) - std::sqrt(Real(5)));
+  const Real golden = std::numbers::pi_v<Real> * (Real(3) - std::sqrt(Real(5)));
   for (int g = 0; g < 6; ++g) {
     const Real radius = Real(0.5) * h * (gaussX[g] + 1);
     const Real radialWeight = Real(0.5) * h * gaussW[g] * radius * radius;
@@ -137,10 +152,10 @@ void VolumeMap::computeVolumes(const CubicSplineKernel& kernel) {
       const Real y = 1 - (Real(d) + Real(0.5)) * Real(2) / kDirections, ring = std::sqrt(1 - y * y);
       const Real theta = golden * Real(d);
       offsets.push_back(radius * Vector3r(ring * std::cos(theta), y, ring * std::sin(theta)));
-      weights.push_back(radialWeight * Real(4 * M_PI) / kDirections);
+      weights.push_back(radialWeight * 4 * std::numbers::pi_v<Real> / kDirections);
     }
   }
-  const Real w0 = kernel.W0(), wholeBall = Real(0.8) * Real(4.0 / 3.0 * M_PI) * h * h * h;
+  const Real w0 = kernel.W0(), wholeBall = Real(0.8) * Real(4) / 3 * std::numbers::pi_v<Real> * h * h * h;
   volume_.assign(phi_.size(), Real(0));
 #pragma omp parallel for schedule(dynamic, 1)
   for (int k = 0; k < dims_[2]; ++k)
@@ -226,7 +241,7 @@ Real VolumeMap::halfSpaceVolume(const CubicSplineKernel& kernel, Real y) {
   for (int i = 0; i <= kIntervals; ++i) {
     const Real z = -h + dz * Real(i), phi = y + z;
     const Real gamma = phi <= 0 ? Real(1) : (phi < h ? kernel.W(phi) / w0 : Real(0));
-    sum += (i == 0 || i == kIntervals ? 1 : (i % 2 ? 4 : 2)) * Real(M_PI) * (h * h - z * z) * gamma;
+    sum += (i == 0 || i == kIntervals ? 1 : (i % 2 ? 4 : 2)) * std::numbers::pi_v<Real> * (h * h - z * z) * gamma;
   }
   return Real(0.8) * sum * dz / 3;
 }

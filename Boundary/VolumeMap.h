@@ -7,10 +7,11 @@
 //   V(x)    the boundary volume 0.8 * integral over |xi| < h of gamma(Phi(x + xi)) dxi with
 //           gamma = 1 in the solid, W(Phi) / W(0) for 0 < Phi < h, 0 beyond (paper/METHODS.md;
 //           0.8 (2r)^3 is the particle volume, the fluid's convention too).
-// Phi is exact within a band of h + 5 cells around the surface (boxes: everywhere, analytic);
+// Phi is exact within a band of 2h + 3 cells around the surface (boxes: everywhere, analytic);
 // V is integrated where a particle can meet the boundary, Phi < h + 2 cells. `surfaceOffset`
-// moves the surface that far into the solid (Phi + offset): the boundary model uses it to put
-// the resting fluid's surface on the mesh.
+// moves the surface that far into the solid (Phi + offset), at most to one cell short of a thin
+// part's mid-plane: the boundary model uses it to put the resting fluid's surface on the mesh.
+// Meshes must be closed (an open one has no inside: InputError).
 #pragma once
 #include <vector>
 
@@ -39,6 +40,8 @@ class VolumeMap {
   Real distance(const Vector3r& x) const;
 
   std::size_t nodeCount() const { return phi_.size(); }
+  // The offset applied: the requested one, less where the object is too thin for it.
+  Real surfaceOffset() const { return offset_; }
 
  private:
   std::size_t node(int i, int j, int k) const { return (std::size_t(k) * dims_[1] + j) * dims_[0] + i; }

@@ -52,11 +52,12 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
                           ? requestedOffset_
                           : std::max(Real(0), VolumeMap::restDistance(kernel, particleRadius_, fluidSpacing_) -
                                                   Real(0.5) * fluidSpacing_);
-  std::string offsetNames;
-  for (const BoundaryObject& o : objects) {
+  for (const BoundaryObject& o : objects)
     if (o.motion != BodyMotion::Static)
       throw InputError(o.path + ": the VolumeMap boundary model takes static objects only; use \"Akinci2012\" for "
                                 "dynamic and animated bodies");
+  std::string offsetNames;
+  for (const BoundaryObject& o : objects) {
     auto map = std::make_unique<VolumeMap>(o, kernel, cellSize_, offsetObjects_ == "all" ? offset : Real(0));
     // "auto": the initial fluid reaches the surface (a particle within 0.95 d: a block drawn up
     // to it, whose outer layer starts d/2 from it, well inside the resting distance).
@@ -69,7 +70,14 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
         if (!touched && m.distance(fluid.positions[i]) < reach) touched = true;
       if (touched) map = std::make_unique<VolumeMap>(o, kernel, cellSize_, offset);
     }
-    if (offsetObjects_ == "all" || touched) offsetNames += (offsetNames.empty() ? "" : ", ") + (o.name.empty() ? o.path : o.name);
+    if (offsetObjects_ == "all" || touched) {
+      offsetNames += (offsetNames.empty() ? "" : ", ") + (o.name.empty() ? o.path : o.name);
+      if (map->surfaceOffset() < offset) {
+        char thin[64];
+        std::snprintf(thin, sizeof(thin), " (thin: %.3g r)", double(map->surfaceOffset() / particleRadius_));
+        offsetNames += thin;
+      }
+    }
     nodes += map->nodeCount();
     maps_.push_back(std::move(map));
   }

@@ -4,8 +4,10 @@
 //   IEEE TVCG 2020).
 // Every step, each fluid particle i within h of an object's surface gets one virtual boundary
 // particle of that object at x_b = x_i - max(Phi + r/2, 2r) n, mass rho0 V(x_i) (VolumeMap),
-// which the solvers, the boundary pressure treatments and the forces then use exactly like an
-// Akinci sample (BoundarySamples, rebuilt every step). The virtual particle never comes closer
+// which the solvers, the boundary pressure treatments and the forces then use like an Akinci
+// sample (BoundarySamples, rebuilt every step). One difference: a virtual particle has one fluid
+// neighbour, so MLS extrapolation's fit is its weighted average, p_k = p_i (mirroring's value,
+// with extrapolation's diagonal); the simulation warns about that combination. The virtual particle never comes closer
 // than 2r, where grad W is strong: nothing slips between samples or through a thin layer, and
 // there are no boundary particles to store or to search.
 // Where the boundary is: the resting fluid keeps its first layer D = 2.28 r from the surface (the
@@ -29,6 +31,7 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   VolumeMapBoundary_Bender2019(const Params& params, Real particleRadius, Real fluidSpacing, const LogSink& log);
   void initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid, const CubicSplineKernel& kernel) override;
   void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
+  bool implicit() const override { return true; }
 
   static std::vector<ParamSpec> parameters();
   const VolumeMap& map(std::size_t object) const { return *maps_[object]; }

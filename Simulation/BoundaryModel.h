@@ -55,6 +55,9 @@ class BoundaryModel {
   virtual void initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid, const CubicSplineKernel& kernel) = 0;
   // Fills fluid i -> boundary sample k lists (with cached kernel gradients).
   virtual void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) = 0;
+  // True when the samples are virtual particles rebuilt every step (one per fluid particle and
+  // object, volume maps), not a fixed sampling of the surfaces.
+  virtual bool implicit() const { return false; }
   // How far object o's samples lie inside its solid (0: on its surface); rigid contact uses it.
   virtual Real layerDepth(std::size_t object) const { return 0; }
   // Samples moved (a moving body): the model must rebuild its acceleration structure.

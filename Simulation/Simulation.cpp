@@ -25,6 +25,9 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
   boundaryModel_ = plugins_.boundaryModels.create(scene_.boundaryModel["type"].get<std::string>(), scene_.boundaryModel,
                                                   "simulation.boundaryModel", context, log_);
   boundaryModel_->initialize(scene_.boundaries, *fluid_, kernel_);
+  if (boundaryModel_->implicit() && scene_.boundaryPressure == BoundaryPressure::Extrapolation)
+    log_(LogLevel::Warning, "simulation.boundaryPressure: \"extrapolation\" with " + scene_.boundaryModel["type"].get<std::string>() +
+                                " walls fits each virtual boundary particle from its one fluid neighbour: p_k = p_i, as mirroring");
   for (const BoundaryObject& o : scene_.boundaries)
     if (o.motion != BodyMotion::Static) {
       std::vector<Real> layerDepth(scene_.boundaries.size());
@@ -361,13 +364,13 @@ void Simulation::setOutputDirectory(const std::string& dir) {
   }
   // The boundary once, for context in ParaView.
   const BoundarySamples& b = boundaryModel_->samples();
-  if (b.size() > 0) {
+  if (!boundaryModel_->implicit() && b.size() > 0) {
     VtuPointCloud cloud(b.positions.data(), b.size());
     cloud.add("mass", b.masses.data(), 1);
     cloud.add("body", b.bodies.data());
     writeFileAtomically((std::filesystem::path(dir) / "boundary.vtu").string(), cloud.serialize());
-  } else if (!scene_.boundaries.empty()) {
-    // An implicit model (volume maps) has no samples: the objects' surfaces instead.
+  } else if (boundaryModel_->implicit() && !scene_.boundaries.empty()) {
+    // An implicit model (volume maps) has no fixed samples: the objects' surfaces instead.
     TriangleMesh all;
     std::vector<Index> body;
     for (std::size_t o = 0; o < scene_.boundaries.size(); ++o) {

@@ -28,6 +28,9 @@ inline std::unique_ptr<Simulation> simulationFromJson(json scene, const LogSink&
 
 inline std::string dataPath(const std::string& relative) { return std::string(CONSPH_TEST_DATA_DIR) + "/" + relative; }
 
+// The largest particle density, kg/m^3.
+inline Real maxDensity(const FluidModel& f) { return *std::max_element(f.densities.begin(), f.densities.end()); }
+
 // Least-squares line y = slope x + intercept through the points added (pressure against height
 // or depth in the hydrostatic and buoyancy tests).
 struct LineFit {

@@ -23,7 +23,6 @@ json filledTank(const std::string& offsetObjects) {
   return s;
 }
 
-Real maxDensity(const FluidModel& f) { return *std::max_element(f.densities.begin(), f.densities.end()); }
 
 }  // namespace
 
@@ -42,7 +41,7 @@ TEST(ParticleBoundary, ABlockDrawnUpToTheWallsStartsAtRestDensityAndSettles) {
   EXPECT_TRUE(named) << "the log names the object whose layer moved";
   const std::size_t n0 = sim->fluid().size();
   sim->step();  // the densities of the first step are those of the start lattice
-  const Real startDensity = maxDensity(sim->fluid()) / sim->fluid().density0();
+  const Real startDensity = test::maxDensity(sim->fluid()) / sim->fluid().density0();
   std::printf("filled tank: densest start particle %.4f rho0\n", double(startDensity));
   EXPECT_LT(startDensity, Real(1.01));
   sim->run(Real(2.0));
@@ -59,7 +58,7 @@ TEST(ParticleBoundary, ABlockDrawnUpToTheWallsStartsAtRestDensityAndSettles) {
   }
   meanSpeed /= double(f.size());
   std::printf("filled tank at t = 2 s: max density %.4f rho0, mean speed %.4f m/s, max %.4f m/s, particles within [%.4f, %.4f] m\n",
-              double(maxDensity(f) / f.density0()), meanSpeed, maxSpeed, double(lowest), double(highest));
+              double(test::maxDensity(f) / f.density0()), meanSpeed, maxSpeed, double(lowest), double(highest));
   // Settling like a block kept off the walls (measured: mean 1.05 cm/s, max 2.7 cm/s at 2 s;
   // 0.74 and 2.1 cm/s for the block below; both 0.3 cm/s at 3 s).
   EXPECT_LT(meanSpeed, 0.02);
@@ -74,7 +73,7 @@ TEST(ParticleBoundary, SamplesOnTheMeshPutTheSameBlockFarOverRestDensity) {
   auto sim = test::simulationFromJson(filledTank("moving"));
   EXPECT_EQ(sim->boundaryModel().layerDepth(0), 0);
   sim->step();
-  EXPECT_GT(maxDensity(sim->fluid()), Real(1.5) * sim->fluid().density0());
+  EXPECT_GT(test::maxDensity(sim->fluid()), Real(1.5) * sim->fluid().density0());
 }
 
 // A block kept half a lattice spacing or more off the walls (the bundled scenes) leaves the
