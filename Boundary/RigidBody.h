@@ -21,6 +21,7 @@ struct RigidBody {
   Matrix3r invInertiaBody = Matrix3r::Identity();
 
   Vector3r x = Vector3r::Zero();  // centre of mass, m
+  Vector3r x0 = Vector3r::Zero();  // its position at t = 0 (the body frame's origin in the scene's coordinates)
   Quaternionr q = Quaternionr::Identity();  // body -> world; the body frame is the world frame at t = 0
   Vector3r v = Vector3r::Zero();  // m/s
   Vector3r w = Vector3r::Zero();  // rad/s
@@ -38,6 +39,7 @@ struct RigidBody {
     return R * invInertiaBody * R.transpose();
   }
   Vector3r velocityAt(const Vector3r& p) const { return v + w.cross(p - x); }
+  ObjectPose pose() const { return {rotation(), x, x0, v, w}; }
 
   // A free body: v += J / m, w += I^-1 (L - dt w x I w) (gyroscopic term explicit),
   // for linear impulse J and angular impulse L about x.

@@ -48,6 +48,7 @@ RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, con
       for (auto& v : obj.mesh.vertices) c += v;
       b.x = mp.volume > 0 ? mp.centerOfMass : Vector3r(c / Real(std::max<std::size_t>(obj.mesh.vertices.size(), 1)));
     }
+    b.x0 = b.x;
     b.v = obj.velocity;
     b.w = obj.angularVelocity;
     b.localMesh = obj.mesh;

@@ -1,5 +1,6 @@
 #include "Boundary/VolumeMapBoundary_Bender2019.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdio>
 #include <limits>
@@ -13,7 +14,7 @@ namespace {
 const PluginRegistration<BoundaryModel> registration{
     "VolumeMap",
     "Implicit boundaries: signed distance and boundary volume on a grid, one virtual boundary particle per fluid "
-    "particle and object (Bender et al. 2019); static objects",
+    "particle and object (Bender et al. 2019); no rigid contact between bodies",
     VolumeMapBoundary_Bender2019::parameters(),
     [](const Params& p, const PluginContext& c) -> std::unique_ptr<BoundaryModel> {
       const Real spacing = c.particleSpacing > 0 ? c.particleSpacing : Real(1.8566) * c.particleRadius;
@@ -28,8 +29,8 @@ std::vector<ParamSpec> VolumeMapBoundary_Bender2019::parameters() {
            "lies on the mesh (1.35 r with the defaults); 0: the mesh itself (Bender et al. 2019)",
            -1.0, 4.0},
           {"offsetObjects", ParamType::String, "auto",
-           "which objects get the surface offset: auto (those the initial fluid reaches: a block drawn up to a wall), "
-           "all, or none",
+           "which objects get the surface offset: auto (moving bodies, and static objects the initial fluid reaches: a "
+           "block drawn up to a wall), all, or none",
            -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"auto", "all", "none"}}};
 }
 
@@ -52,17 +53,19 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
                           ? requestedOffset_
                           : std::max(Real(0), VolumeMap::restDistance(kernel, particleRadius_, fluidSpacing_) -
                                                   Real(0.5) * fluidSpacing_);
-  for (const BoundaryObject& o : objects)
-    if (o.motion != BodyMotion::Static)
-      throw InputError(o.path + ": the VolumeMap boundary model takes static objects only; use \"Akinci2012\" for "
-                                "dynamic and animated bodies");
+  moving_.assign(objects.size(), 0);
+  poses_.assign(objects.size(), ObjectPose());
   std::string offsetNames;
-  for (const BoundaryObject& o : objects) {
-    auto map = std::make_unique<VolumeMap>(o, kernel, cellSize_, offsetObjects_ == "all" ? offset : Real(0));
+  for (std::size_t b = 0; b < objects.size(); ++b) {
+    const BoundaryObject& o = objects[b];
+    moving_[b] = o.motion != BodyMotion::Static;
+    // A moving body's displaced volume is its buoyancy: its surface always moves ("auto").
+    const bool always = offsetObjects_ == "all" || (offsetObjects_ == "auto" && moving_[b]);
+    auto map = std::make_unique<VolumeMap>(o, kernel, cellSize_, always ? offset : Real(0));
     // "auto": the initial fluid reaches the surface (a particle within 0.95 d: a block drawn up
     // to it, whose outer layer starts d/2 from it, well inside the resting distance).
     bool touched = false;
-    if (offsetObjects_ == "auto" && offset > 0) {
+    if (offsetObjects_ == "auto" && !always && offset > 0) {
       const VolumeMap& m = *map;
       const Real reach = Real(0.95) * fluidSpacing_;
 #pragma omp parallel for schedule(static) reduction(|| : touched)
@@ -70,7 +73,7 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
         if (!touched && m.distance(fluid.positions[i]) < reach) touched = true;
       if (touched) map = std::make_unique<VolumeMap>(o, kernel, cellSize_, offset);
     }
-    if (offsetObjects_ == "all" || touched) {
+    if (always || touched) {
       offsetNames += (offsetNames.empty() ? "" : ", ") + (o.name.empty() ? o.path : o.name);
       if (map->surfaceOffset() < offset) {
         char thin[64];
@@ -81,6 +84,14 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
     nodes += map->nodeCount();
     maps_.push_back(std::move(map));
   }
+  std::string dynamicNames;
+  for (const BoundaryObject& o : objects)
+    if (o.motion == BodyMotion::Dynamic)
+      dynamicNames += (dynamicNames.empty() ? "" : ", ") + o.path + (o.name.empty() ? "" : " ('" + o.name + "')");
+  if (!dynamicNames.empty() && log_)
+    log_(LogLevel::Warning, "simulation.boundaryModel: VolumeMap bodies have no rigid contact (no sample layers): " + dynamicNames +
+                                " pass through other objects where no fluid holds them apart; use Akinci2012 for bodies that "
+                                "must rest on a wall or collide");
   if (!offsetNames.empty() && log_) {
     char line[160];
     std::snprintf(line, sizeof(line), "VolumeMap: surfaces %.3g r inside the solids (the resting fluid's surface on the meshes) of: ",
@@ -101,7 +112,17 @@ bool VolumeMapBoundary_Bender2019::virtualParticle(std::size_t o, const Vector3r
                                                    Vector3r& position, Real& mass, Vector3r& gradient) const {
   Real phi, volume;
   Vector3r phiGradient, volumeGradient;
-  if (!maps_[o]->sample(x, phi, phiGradient, volume, volumeGradient)) return false;
+  if (!moving_[o]) {
+    if (!maps_[o]->sample(x, phi, phiGradient, volume, volumeGradient)) return false;
+  } else {
+    // The map is the body's at t = 0: query it there, turn the gradients into the world.
+    const ObjectPose& pose = poses_[o];
+    if (!maps_[o]->sample(pose.initialCentre + pose.rotation.transpose() * (x - pose.centre), phi, phiGradient, volume,
+                          volumeGradient))
+      return false;
+    phiGradient = pose.rotation * phiGradient;
+    volumeGradient = pose.rotation * volumeGradient;
+  }
   const bool follows = phi + Real(0.5) * particleRadius_ > 2 * particleRadius_;  // s = Phi + r/2, else 2r
   const Real s = follows ? phi + Real(0.5) * particleRadius_ : 2 * particleRadius_;
   position = x - s * phiGradient.normalized();
@@ -150,7 +171,8 @@ void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const 
       Real mk;
       if (!virtualParticle(o, xi, kernel, xk, mk, gk)) continue;
       samples_.positions[e] = xk;
-      samples_.velocities[e] = Vector3r::Zero();
+      const ObjectPose& pose = poses_[o];
+      samples_.velocities[e] = moving_[o] ? Vector3r(pose.velocity + pose.angularVelocity.cross(xk - pose.centre)) : Vector3r::Zero();
       samples_.masses[e] = mk;
       samples_.bodies[e] = Index(o);
       out.indices[e] = e;

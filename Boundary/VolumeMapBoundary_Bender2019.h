@@ -15,8 +15,13 @@
 // particle fills the cube of side d around its centre; so, as for Akinci samples, the surface
 // of an object the initial fluid reaches moves D - d/2 into the solid ("auto"), and a block drawn
 // up to a container's walls starts at rest (without it, such a block blew up at step 13).
-// Static objects only for now: a moving body needs its map in the body's frame and a rigid
-// contact without sample layers; use Akinci2012 for dynamic and animated bodies.
+// Moving (dynamic, animated, hinged) bodies keep the map they had at t = 0: a fluid particle is
+// taken into the body's frame of then, and the virtual particle's normal and volume gradient
+// back into the world; the virtual particle moves with the body's velocity at its position, and
+// the pressure impulses on it go to the body like those on an Akinci sample (Eq. 35). Their
+// surfaces always move D - d/2 into the solid, as Akinci layers do, so that a body displaces
+// its mesh's volume. There are no sample layers, so rigid contact (RigidContact) does not see
+// these bodies: use Akinci2012 where bodies must collide with each other or rest on a wall.
 #pragma once
 #include <memory>
 
@@ -32,6 +37,7 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   void initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid, const CubicSplineKernel& kernel) override;
   void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
   bool implicit() const override { return true; }
+  void setPose(std::size_t object, const ObjectPose& pose) override { poses_[object] = pose; }
 
   static std::vector<ParamSpec> parameters();
   const VolumeMap& map(std::size_t object) const { return *maps_[object]; }
@@ -50,6 +56,8 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   Real density0_ = 1000;
   LogSink log_;
   std::vector<std::unique_ptr<VolumeMap>> maps_;
+  std::vector<char> moving_;          // per object: dynamic or animated
+  std::vector<ObjectPose> poses_;     // per object; identity for static ones
 };
 
 }  // namespace consph

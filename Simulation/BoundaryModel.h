@@ -47,6 +47,14 @@ struct BoundaryObject {
   Real friction = Real(0.5);  // Coulomb coefficient in rigid contact; a pair uses sqrt(mu_a mu_b)
 };
 
+// Where a moving object is now: the point p it had at t = 0 is at centre + rotation (p -
+// initialCentre), moving with velocity + angularVelocity x (. - centre).
+struct ObjectPose {
+  Matrix3r rotation = Matrix3r::Identity();
+  Vector3r centre = Vector3r::Zero(), initialCentre = Vector3r::Zero();
+  Vector3r velocity = Vector3r::Zero(), angularVelocity = Vector3r::Zero();
+};
+
 class BoundaryModel {
  public:
   virtual ~BoundaryModel() = default;
@@ -60,6 +68,9 @@ class BoundaryModel {
   virtual bool implicit() const { return false; }
   // How far object o's samples lie inside its solid (0: on its surface); rigid contact uses it.
   virtual Real layerDepth(std::size_t object) const { return 0; }
+  // A moving object's pose after the bodies moved (every step, and once at start-up). Sampled
+  // models ignore it: the rigid-body system moves their samples itself.
+  virtual void setPose(std::size_t object, const ObjectPose& pose) {}
   // Samples moved (a moving body): the model must rebuild its acceleration structure.
   void markMoved() { moved_ = true; }
   BoundarySamples& samples() { return samples_; }

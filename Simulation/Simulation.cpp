@@ -35,6 +35,7 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
       bodies_ = std::make_unique<RigidBodySystem>(scene_.boundaries, boundaryModel_->samples(), std::move(layerDepth),
                                                   scene_.particleRadius, log_);
       bodies_->updateSamples(boundaryModel_->samples());  // the bodies' initial velocities
+      for (const RigidBody& b : bodies_->bodies()) boundaryModel_->setPose(b.object, b.pose());
       break;
     }
   pressureSolver_ = plugins_.pressureSolvers.create(scene_.pressureSolver["type"].get<std::string>(), scene_.pressureSolver,
@@ -145,6 +146,7 @@ void Simulation::coupleRigidBodies(StepContext& ctx) {
   bodies_->gatherFluidImpulses(boundaryNeighbors_, boundaryModel_->samples(), pairImpulses_);
   bodies_->advance(dt_, scene_.gravity, boundaryModel_->samples());
   bodies_->updateSamples(boundaryModel_->samples());
+  for (const RigidBody& b : bodies_->bodies()) boundaryModel_->setPose(b.object, b.pose());
   boundaryModel_->markMoved();
 }
 
@@ -370,10 +372,12 @@ void Simulation::setOutputDirectory(const std::string& dir) {
     cloud.add("body", b.bodies.data());
     writeFileAtomically((std::filesystem::path(dir) / "boundary.vtu").string(), cloud.serialize());
   } else if (boundaryModel_->implicit() && !scene_.boundaries.empty()) {
-    // An implicit model (volume maps) has no fixed samples: the objects' surfaces instead.
+    // An implicit model (volume maps) has no fixed samples: the static objects' surfaces instead
+    // (moving bodies are in the bodies series).
     TriangleMesh all;
     std::vector<Index> body;
     for (std::size_t o = 0; o < scene_.boundaries.size(); ++o) {
+      if (scene_.boundaries[o].motion != BodyMotion::Static) continue;
       const TriangleMesh& mesh = scene_.boundaries[o].mesh;
       const Index base = Index(all.vertices.size());
       all.vertices.insert(all.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());

@@ -7,7 +7,8 @@ gathering, sample update, boundary grid rebuild - on an identical fluid) and dyn
 scene, whose fluid then differs). Then data/scenes/WaterWheel.json. Prints a table with the
 machine, thread count and precision.
 
-Usage: bench/bench_rigid_bodies.py [--threads N] [--stop-at T] [--binary build/consph]"""
+Usage: bench/bench_rigid_bodies.py [--threads N] [--stop-at T] [--binary build/consph]
+                                   [--boundary-model Akinci2012|VolumeMap]"""
 import argparse
 import json
 import os
@@ -37,7 +38,18 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--stop-at", type=float, default=1.0, help="simulated seconds of the buoyancy runs")
     ap.add_argument("--binary", default=os.path.join(ROOT, "build", "consph"))
+    ap.add_argument("--boundary-model", default="Akinci2012", choices=["Akinci2012", "VolumeMap"],
+                    help="boundary model of every run (the scenes' own: Akinci2012)")
     args = ap.parse_args()
+
+    def with_model(scene):
+        model = scene["simulation"].get("boundaryModel", {"type": "Akinci2012"})
+        model = {"type": model} if isinstance(model, str) else dict(model)
+        if model["type"] != args.boundary_model:
+            model = {"type": args.boundary_model, **({"offsetObjects": model["offsetObjects"]}
+                                                    if model.get("offsetObjects") in ("auto", "all", "none") else {})}
+        scene["simulation"]["boundaryModel"] = model
+        return scene
     base = json.load(open(os.path.join(ROOT, "data", "scenes", "Buoyancy.json")))
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -48,12 +60,13 @@ def main():
                     b.pop("dynamic"), b.pop("density")
                 if tag == "animated":
                     b["animated"] = {"velocity": [0, 0, 0]}
-            rows.append(("Buoyancy, boxes " + tag, run(args.binary, scene, args.threads, args.stop_at, tmp, tag)))
+            rows.append(("Buoyancy, boxes " + tag, run(args.binary, with_model(scene), args.threads, args.stop_at, tmp, tag)))
         wheel = json.load(open(os.path.join(ROOT, "data", "scenes", "WaterWheel.json")))
         wheel["boundaries"][0]["mesh"] = os.path.join(ROOT, "data", "meshes", "WaterWheel.obj")
-        rows.append(("WaterWheel (to stopAt)", run(args.binary, wheel, args.threads, None, tmp, "wheel")))
+        rows.append(("WaterWheel (to stopAt)", run(args.binary, with_model(wheel), args.threads, None, tmp, "wheel")))
     s0 = rows[0][1]
-    print("machine: %s, threads: %d, precision: %s" % (cpu_model(), s0["threads"], s0["precision"]))
+    print("machine: %s, threads: %d, precision: %s, boundary model: %s" % (cpu_model(), s0["threads"], s0["precision"],
+                                                                          args.boundary_model))
     print("| run | fluid particles (end) | boundary samples | steps | simulated s | wall s | ms / step | "
           "rigid-body phase s | neighbour search s | pressure iters | emitted | removed |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
