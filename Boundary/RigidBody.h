@@ -38,8 +38,8 @@ struct RigidBody {
     const Matrix3r R = rotation();
     return R * invInertiaBody * R.transpose();
   }
-  Vector3r velocityAt(const Vector3r& p) const { return v + w.cross(p - x); }
   ObjectPose pose() const { return {rotation(), x, x0, v, w}; }
+  Vector3r velocityAt(const Vector3r& p) const { return v + w.cross(p - x); }
 
   // A free body: v += J / m, w += I^-1 (L - dt w x I w) (gyroscopic term explicit),
   // for linear impulse J and angular impulse L about x.

@@ -84,8 +84,8 @@ RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, con
   angularImpulse_.assign(bodies_.size(), Vector3r::Zero());
 }
 
-void RigidBodySystem::gatherFluidImpulses(const NeighborLists& lists, const BoundarySamples& samples,
-                                          const std::vector<Vector3r>& pairImpulses) {
+void RigidBodySystem::gatherFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
+                                          const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses) {
   const std::size_t nb = bodies_.size(), n = lists.queryCount();
   const int threads = omp_get_max_threads();
   perThread_.assign(std::size_t(threads) * nb * 2, Vector3r::Zero());
@@ -100,7 +100,11 @@ void RigidBodySystem::gatherFluidImpulses(const NeighborLists& lists, const Boun
         if (b == kNone) continue;
         const Vector3r& J = pairImpulses[e];
         acc[2 * b] += J;
-        acc[2 * b + 1] += (samples.positions[k] - bodies_[b].x).cross(J);  // the force acts at x_k
+        // The torque of the reaction about x, taken at the fluid particle: the fluid's angular
+        // momentum changes by x_i x (-J), so the total is conserved whatever the pair's force
+        // direction (a volume map's has a grad V part off x_i - x_k; an Akinci pair's lies
+        // along it, where x_i and x_k give the same torque).
+        acc[2 * b + 1] += (fluidPositions[i] - bodies_[b].x).cross(J);
       }
   }
   for (int t = 0; t < threads; ++t)
@@ -155,8 +159,10 @@ void RigidBodySystem::advanceHinged(RigidBody& b, const HingeDescription& h, con
   b.v = b.w.cross(b.x - h.point);
 }
 
-void RigidBodySystem::updateSamples(BoundarySamples& samples) const {
+void RigidBodySystem::updateBoundary(BoundaryModel& model) const {
+  BoundarySamples& samples = model.samples();
   for (const RigidBody& b : bodies_) {
+    model.setPose(b.object, b.pose());
     const Matrix3r R = b.rotation();
     const std::ptrdiff_t n = std::ptrdiff_t(b.samples.size());
 #pragma omp parallel for schedule(static)

@@ -38,16 +38,17 @@ class RigidBodySystem {
 
   // Sums the impulse the fluid gave each sample of a moving body (pairImpulses[e] for the pair
   // e = (i, k) of `lists`) into impulse and angular impulse per body.
-  void gatherFluidImpulses(const NeighborLists& lists, const BoundarySamples& samples,
-                           const std::vector<Vector3r>& pairImpulses);
+  void gatherFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
+                           const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses);
   // One step: dynamic bodies take the gathered impulses and gravity (hinged ones about their
   // axle, with the motor), free ones then rigid contact (RigidContact, on the current
   // `samples`), animated ones follow their prescribed velocity. Clears the impulses.
   void advance(Real dt, const Vector3r& gravity, const BoundarySamples& samples);
   // Contacts found in the last advance().
   std::size_t contactCount() const { return contactCount_; }
-  // Positions and velocities of the moving bodies' samples from the bodies' state.
-  void updateSamples(BoundarySamples& samples) const;
+  // Positions and velocities of the moving bodies' samples from the bodies' state, and each
+  // moving object's pose for the boundary model (an implicit one moves its maps with it).
+  void updateBoundary(BoundaryModel& model) const;
 
   // Linear momentum of the dynamic bodies, kg m/s.
   Vector3r momentum() const;

@@ -9,7 +9,10 @@ namespace consph {
 
 std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vector<char>& solvable,
                                 const std::vector<Index>& bodyOfObject, const BoundarySamples& samples, Real dt) {
-  if (std::none_of(solvable.begin(), solvable.end(), [](char s) { return s != 0; })) return 0;
+  // Only free bodies with sample layers can touch anything (volume-map bodies have none).
+  bool any = false;
+  for (std::size_t b = 0; b < bodies.size(); ++b) any |= solvable[b] && !bodies[b].samples.empty();
+  if (!any) return 0;
   const Real maxDepth = *std::max_element(layerDepth_.begin(), layerDepth_.end());
   const Real reach = std::max(2 * maxDepth, minDistance_);
   // Contacts are looked for a little beyond touching, so a body closing in fast is caught the

@@ -86,7 +86,7 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
   }
   std::string dynamicNames;
   for (const BoundaryObject& o : objects)
-    if (o.motion == BodyMotion::Dynamic)
+    if (o.motion == BodyMotion::Dynamic && !o.hinge.enabled)  // a hinge has no contact with either model
       dynamicNames += (dynamicNames.empty() ? "" : ", ") + o.path + (o.name.empty() ? "" : " ('" + o.name + "')");
   if (!dynamicNames.empty() && log_)
     log_(LogLevel::Warning, "simulation.boundaryModel: VolumeMap bodies have no rigid contact (no sample layers): " + dynamicNames +
@@ -117,9 +117,7 @@ bool VolumeMapBoundary_Bender2019::virtualParticle(std::size_t o, const Vector3r
   } else {
     // The map is the body's at t = 0: query it there, turn the gradients into the world.
     const ObjectPose& pose = poses_[o];
-    if (!maps_[o]->sample(pose.initialCentre + pose.rotation.transpose() * (x - pose.centre), phi, phiGradient, volume,
-                          volumeGradient))
-      return false;
+    if (!maps_[o]->sample(pose.toInitial(x), phi, phiGradient, volume, volumeGradient)) return false;
     phiGradient = pose.rotation * phiGradient;
     volumeGradient = pose.rotation * volumeGradient;
   }
@@ -171,8 +169,9 @@ void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const 
       Real mk;
       if (!virtualParticle(o, xi, kernel, xk, mk, gk)) continue;
       samples_.positions[e] = xk;
-      const ObjectPose& pose = poses_[o];
-      samples_.velocities[e] = moving_[o] ? Vector3r(pose.velocity + pose.angularVelocity.cross(xk - pose.centre)) : Vector3r::Zero();
+      // The body's velocity where the fluid particle is: the boundary density there, a function
+      // of x_i in the body's frame, changes at grad rho_b . (v_i - v_body(x_i)).
+      samples_.velocities[e] = moving_[o] ? poses_[o].velocityAt(xi) : Vector3r::Zero();
       samples_.masses[e] = mk;
       samples_.bodies[e] = Index(o);
       out.indices[e] = e;

@@ -53,6 +53,10 @@ struct ObjectPose {
   Matrix3r rotation = Matrix3r::Identity();
   Vector3r centre = Vector3r::Zero(), initialCentre = Vector3r::Zero();
   Vector3r velocity = Vector3r::Zero(), angularVelocity = Vector3r::Zero();
+
+  // Where the world point x was at t = 0, seen from the object.
+  Vector3r toInitial(const Vector3r& x) const { return initialCentre + rotation.transpose() * (x - centre); }
+  Vector3r velocityAt(const Vector3r& x) const { return velocity + angularVelocity.cross(x - centre); }
 };
 
 class BoundaryModel {

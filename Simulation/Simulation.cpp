@@ -34,8 +34,7 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
       for (std::size_t b = 0; b < layerDepth.size(); ++b) layerDepth[b] = boundaryModel_->layerDepth(b);
       bodies_ = std::make_unique<RigidBodySystem>(scene_.boundaries, boundaryModel_->samples(), std::move(layerDepth),
                                                   scene_.particleRadius, log_);
-      bodies_->updateSamples(boundaryModel_->samples());  // the bodies' initial velocities
-      for (const RigidBody& b : bodies_->bodies()) boundaryModel_->setPose(b.object, b.pose());
+      bodies_->updateBoundary(*boundaryModel_);  // the bodies' initial velocities
       break;
     }
   pressureSolver_ = plugins_.pressureSolvers.create(scene_.pressureSolver["type"].get<std::string>(), scene_.pressureSolver,
@@ -143,10 +142,9 @@ void Simulation::coupleRigidBodies(StepContext& ctx) {
   // summed into force and torque per body; then the bodies move and take their samples along.
   // Animated bodies are not moved by it, but their fluid force is reported too.
   pressureSolver_->boundaryImpulses(ctx, pairImpulses_);
-  bodies_->gatherFluidImpulses(boundaryNeighbors_, boundaryModel_->samples(), pairImpulses_);
+  bodies_->gatherFluidImpulses(boundaryNeighbors_, fluid_->positions, boundaryModel_->samples(), pairImpulses_);
   bodies_->advance(dt_, scene_.gravity, boundaryModel_->samples());
-  bodies_->updateSamples(boundaryModel_->samples());
-  for (const RigidBody& b : bodies_->bodies()) boundaryModel_->setPose(b.object, b.pose());
+  bodies_->updateBoundary(*boundaryModel_);
   boundaryModel_->markMoved();
 }
 

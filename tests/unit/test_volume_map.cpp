@@ -2,6 +2,7 @@
 // virtual boundary particles the VolumeMap boundary model builds from them.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <numbers>
 
@@ -179,6 +180,50 @@ TEST(VolumeMapBoundary, PairGradientIsTheGradientOfTheBoundaryDensity) {
     EXPECT_LE(ratio, probe.maxRatio);
     EXPECT_GT(cosine, 0.999);
   }
+}
+
+// A moving body's map goes with it: a plate 0.4 x 0.1 x 0.4 m turned by 90 degrees about z
+// through its centre. A fluid particle 2.5 r off the turned plate's thin face (x = 0.25) gets one
+// virtual particle 3 r behind it along +x, moving with the body's velocity at the fluid
+// particle; one above where the plate's top face was (and no longer is) gets none.
+TEST(VolumeMapBoundary, AMovingBodysMapTurnsWithIt) {
+  const CubicSplineKernel kernel(4 * kR);
+  const LogSink quiet = [](LogLevel, const std::string&) {};
+  FluidModel fluid("probe", 1000);
+  const PluginContext context{&fluid, kR, kernel.supportRadius(), quiet, Real(1.8566) * kR};
+  auto model = builtinPlugins().boundaryModels.create("VolumeMap", json{{"type", "VolumeMap"}, {"offsetObjects", "none"}},
+                                                      "simulation.boundaryModel", context, quiet);
+  BoundaryObject plate = boxObject(Vector3r::Zero(), Vector3r(0.4, 0.1, 0.4), false);
+  plate.motion = BodyMotion::Dynamic;
+  model->initialize({plate}, fluid, kernel);
+  ObjectPose pose;
+  pose.initialCentre = pose.centre = Vector3r(0.2, 0.05, 0.2);
+  pose.rotation = Eigen::AngleAxis<Real>(Real(std::numbers::pi / 2), Vector3r::UnitZ()).toRotationMatrix();
+  pose.velocity = Vector3r(0.1, 0, 0);
+  pose.angularVelocity = Vector3r(0, 0, 2);
+  model->setPose(0, pose);
+  fluid.resize(2);
+  fluid.positions[0] = Vector3r(0.25 + 2.5 * kR, 0.05, 0.2);  // beside the turned plate
+  fluid.positions[1] = Vector3r(0.4, 0.1 + 2.5 * kR, 0.2);    // above where its top face was, 6 r off the turned plate
+  NeighborLists lists;
+  model->findNeighbors(fluid, kernel, lists);
+  ASSERT_EQ(lists.count(0), 1u);
+  EXPECT_EQ(lists.count(1), 0u);
+  const BoundarySamples& b = model->samples();
+  const Index k = lists.indices[lists.begin(0)];
+  const Vector3r expected = fluid.positions[0] - 3 * kR * Vector3r::UnitX();  // s = Phi + r/2
+  EXPECT_LT((b.positions[k] - expected).norm(), Real(1e-3) * kR) << b.positions[k].transpose();
+  const Vector3r v = pose.velocity + pose.angularVelocity.cross(fluid.positions[0] - pose.centre);
+  EXPECT_LT((b.velocities[k] - v).norm(), Real(1e-12)) << b.velocities[k].transpose();
+  EXPECT_GT(std::abs(lists.gradW[lists.begin(0)].normalized().dot(Vector3r::UnitX())), Real(0.999));
+  // The mass is the unturned plate's volume at the same distance from a face.
+  fluid.positions[0] = Vector3r(0.2, -2.5 * kR, 0.2);
+  model->setPose(0, ObjectPose{Matrix3r::Identity(), pose.centre, pose.initialCentre});
+  NeighborLists unturned;
+  const Real mass = b.masses[k];
+  model->findNeighbors(fluid, kernel, unturned);
+  ASSERT_EQ(unturned.count(0), 1u);
+  EXPECT_NEAR(model->samples().masses[unturned.indices[unturned.begin(0)]], mass, Real(1e-9) * mass);
 }
 
 TEST(VolumeMapBoundary, ExtrapolationWarnsThatItIsMirroringHere) {
