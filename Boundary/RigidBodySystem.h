@@ -37,7 +37,9 @@ class RigidBodySystem {
   std::vector<RigidBody>& bodies() { return bodies_; }
 
   // Sums the impulse the fluid gave each sample of a moving body (pairImpulses[e] for the pair
-  // e = (i, k) of `lists`) into impulse and angular impulse per body.
+  // e = (i, k) of `lists`) into impulse and angular impulse per body, the torque taken at the
+  // fluid particle x_i (fluid plus bodies then conserve angular momentum whatever the pair
+  // force's direction).
   void gatherFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
                            const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses);
   // One step: dynamic bodies take the gathered impulses and gravity (hinged ones about their

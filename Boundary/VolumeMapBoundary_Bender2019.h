@@ -17,8 +17,9 @@
 // up to a container's walls starts at rest (without it, such a block blew up at step 13).
 // Moving (dynamic, animated, hinged) bodies keep the map they had at t = 0: a fluid particle is
 // taken into the body's frame of then, and the virtual particle's normal and volume gradient
-// back into the world; the virtual particle moves with the body's velocity at its position, and
-// the pressure impulses on it go to the body like those on an Akinci sample (Eq. 35). Their
+// back into the world; the virtual particle moves with the body's velocity at the fluid
+// particle, and the pressure impulses on it go to the body like those on an Akinci sample
+// (Eq. 35; RigidBodySystem takes their torque at the fluid particle). Their
 // surfaces always move D - d/2 into the solid, as Akinci layers do, so that a body displaces
 // its mesh's volume. There are no sample layers, so rigid contact (RigidContact) does not see
 // these bodies: use Akinci2012 where bodies must collide with each other or rest on a wall.
