@@ -128,8 +128,10 @@ INSTANTIATE_TEST_SUITE_P(Treatments, Hydrostatic, ::testing::Values("consistent"
 
 // The same narrow column (10 particles across) with the other two treatments does not meet these
 // criteria today (measured 2026-11-23, double, 2 threads; run with --gtest_also_run_disabled_tests):
-//  - mirroring: dp/d(depth) = 1.049 rho0 g, every depth bin 5.3-6.1 % high (the mirrored wall
-//    pressure holds the column off the walls and the interior pressure reads high);
+//  - mirroring: dp/d(depth) = 1.049 rho0 g, every depth bin 5.3-6.1 % high: the column never rests.
+//    Mirroring's p_k = p_i term does net work and drives a convection cell (wall layer sinking at
+//    11 cm/s, interior rising; test MirroringEnergy in test_boundary_pressure.cpp), so no method
+//    that mirrors can meet a criterion taken at rest;
 //  - extrapolation: dp/d(depth) = 1.006 rho0 g, bins 1.8-3.6 % high, but not at rest: mean
 //    speed 1.7 cm/s, interior maximum 17 cm/s at t = 2 s.
 // Kept as a disabled instance so the criterion stays visible and runnable, not loosened.
@@ -177,7 +179,9 @@ INSTANTIATE_TEST_SUITE_P(Treatments, HydrostaticPressure, ::testing::Values("ext
 // extrapolation: slope 1.0052, bins 1.012-1.024 (enabled above; 1.0042 with the dense grid's
 // neighbour order); consistent: slope 1.0196 before the dense grid, 1.0237 with it (bins
 // 1.024-1.030: the summation order alone moves a slope by ~0.4 %; its narrow-column test above
-// passes at 1.0184); mirroring: slope 1.0245, then 1.0252, bins 1.028-1.033. Both fail the 2 %.
+// passes at 1.0184); mirroring: slope 1.0245, then 1.0252, bins 1.028-1.033 (a fluid in motion:
+// its convection cell runs at 10 cm/s mean speed here, the wall layer sinking at 20 cm/s; the
+// slope of a 1 s window wanders, 1.0029-1.0341 over 5 s). Both fail the 2 %.
 // The consistent slope depends on the start packing: the same column with its block drawn up to
 // the walls (the tank's layer then moves 1.2 r into the solid, "auto" offset) reads 1.0099, while
 // mirroring reads 1.0273 in that start too (2026-11-23 evening, a Python replica of this profile
