@@ -306,11 +306,12 @@ TEST_P(MirroringEnergy, ThePkEqualsPiTermDrivesACirculationThatViscosityDissipat
   // The term feeds the cell: it supplies at least what viscosity dissipates, give or take 20 %.
   EXPECT_GT(mirroring.mirrorTermPower, 0.8 * -mirroring.viscousPower);
 
-  // The consistent treatment's column rests: no cell, a hundredth of the dissipation, and the
-  // same expression (there a part of the constraint force, balanced by the fluid terms) does a
-  // small fraction of the work.
+  // The consistent treatment's column rests: no cell, about a ninth of mirroring's mean speed and
+  // a thirtieth of its dissipation while still settling between 1 and 2 s (asserted: below a fifth
+  // and a twentieth), and the same expression (there a part of the constraint force, balanced by
+  // the fluid terms) does a tenth of the work (asserted: below a quarter).
   const EnergyBudget consistent = measureEnergyBudget(GetParam(), "consistent");
-  EXPECT_LT(consistent.meanSpeed, Real(0.015));
+  EXPECT_LT(consistent.meanSpeed, 0.2 * mirroring.meanSpeed);  // its absolute rest: Hydrostatic.ColumnAtRestDFSPH
   EXPECT_LT(std::abs(consistent.wallLayerVy), Real(0.01));
   EXPECT_LT(-consistent.viscousPower, 0.05 * -mirroring.viscousPower);
   EXPECT_LT(std::abs(consistent.mirrorTermPower), 0.25 * mirroring.mirrorTermPower);
