@@ -2,6 +2,7 @@
 #pragma once
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -9,6 +10,18 @@
 #include "Simulation/Simulation.h"
 
 namespace consph::test {
+
+// Round-off of the build's Real (CONSPH_DOUBLE=ON: double, OFF: float). Tolerances that cover
+// round-off, not physics, are written with these: CI builds double, whose tolerances were tuned
+// for it and stay as they are; a float build gets a tolerance derived from float's epsilon
+// (2^-23 = 1.19e-7) with a comment saying which round-off it covers.
+inline constexpr bool kDoubleBuild = sizeof(Real) == sizeof(double);
+inline constexpr double kEps = std::numeric_limits<Real>::epsilon();
+inline constexpr double kFloatEps = std::numeric_limits<float>::epsilon();
+
+// The tolerance of this build: `doubleTol` in a double build (unchanged from before tests were
+// made precision-aware), `floatTol` in a float build.
+constexpr double roundoff(double doubleTol, double floatTol) { return kDoubleBuild ? doubleTol : floatTol; }
 
 struct CapturedLog {
   std::vector<std::string> warnings, infos;

@@ -24,6 +24,13 @@ CLI = os.environ.get("CONSPH_BINARY") or os.path.join(
 # Round-off of the build's Real (consph.precision): absolute for positions of order 1 m, relative.
 ATOL = 1e-12 if consph.precision == "double" else 1e-5
 RTOL = 1e-9 if consph.precision == "double" else 1e-5
+FLOAT_EPS = 2.0 ** -23  # float's machine epsilon, 1.19e-7
+
+
+def roundoff(double_tol, float_tol):
+    """The tolerance of this build, as test::roundoff in tests/TestUtil.h: double_tol (unchanged)
+    in a double build, float_tol (written as a multiple of FLOAT_EPS) in a float build."""
+    return double_tol if consph.precision == "double" else float_tol
 
 R = 0.025  # particle radius of the tiny scenes, m
 
