@@ -600,13 +600,20 @@ TEST(RigidBodies, OverlappingStartDoesNotExplode) {
 // Rigid contact (Boundary/RigidContact.h): a box twice as dense as water sinks and comes to rest
 // on the tank floor instead of passing through it (there is no fluid left between them to
 // hold it), and a second box dropped onto it without fluid comes to rest on top of it.
-TEST(RigidBodies, SinkingBoxRestsOnTheFloor) {
-  auto sim = makeSimulation(R"({
+namespace {
+// The box starts `offset` (x, y) m from the tank's centre line; the asserts are the same.
+void expectSinkingBoxRests(double offsetX, double offsetY) {
+  json scene = json::parse(R"({
     "simulation": {"particleRadius": 0.025, "maxTimeStep": 0.004},
     "fluids": [{"blocks": [{"min": [0.05, 0.05, 0.05], "max": [0.55, 0.25, 0.55]}]}],
     "boundaries": [{"name": "tank", "box": {"min": [0, 0, 0], "max": [0.6, 1.0, 0.6]}, "inverted": true},
                    {"name": "box", "box": {"min": [0.2, 0.35, 0.2], "max": [0.4, 0.45, 0.4]}, "dynamic": true, "density": 2000}],
     "output": {"enabled": false}})");
+  for (const char* corner : {"min", "max"}) {
+    scene["boundaries"][1]["box"][corner][0] = scene["boundaries"][1]["box"][corner][0].get<double>() + offsetX;
+    scene["boundaries"][1]["box"][corner][1] = scene["boundaries"][1]["box"][corner][1].get<double>() + offsetY;
+  }
+  auto sim = makeSimulation(scene.dump());
   const RigidBody& body = sim->rigidBodies()->bodies().at(0);
   // The box's lowest point: its half extents (0.1, 0.05, 0.1) m in the world axes at t = 0,
   // turned by the rotation since then (x[1] - 0.05 assumed the box stays face down). It hits the
@@ -633,6 +640,19 @@ TEST(RigidBodies, SinkingBoxRestsOnTheFloor) {
   EXPECT_LT(body.v.norm(), 0.02);           // resting on it (measured |v| < 1e-4 m/s with friction 0.5)
   EXPECT_GT(sim->rigidBodies()->contactCount(), 0u);
 }
+}  // namespace
+
+TEST(RigidBodies, SinkingBoxRestsOnTheFloor) { expectSinkingBoxRests(0, 0); }
+
+// DISABLED, a known bug found 2026-11-30: the same box started 3 mm off the centre line (and 1 mm
+// higher) lands tilted, and a fluid particle caught in the closing gap under it has DFSPH's
+// divergence solve hold it incompressible although its density is 0.6 rho0 (it counts its box
+// and floor samples among its 20 neighbours, so it is not taken for a surface particle): it
+// carries 1e5-1e7 Pa, leaves the gap at up to 130 m/s, and the box is thrown up to 0.63 m and is
+// still flying at t = 1 s (1.6 m/s). Offsets of 11 and 17 mm land quietly (fluid at most 6 m/s).
+// Enable with --gtest_also_run_disabled_tests once the divergence solve leaves under-dense
+// particles free to compress to rho0.
+TEST(RigidBodies, DISABLED_AnOffCentreSinkingBoxRestsOnTheFloor) { expectSinkingBoxRests(0.003, 0.001); }
 
 TEST(RigidBodies, BoxStacksOnABoxWithoutFluid) {
   auto sim = makeSimulation(R"({
