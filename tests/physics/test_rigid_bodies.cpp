@@ -650,8 +650,13 @@ TEST(RigidBodies, SinkingBoxRestsOnTheFloor) { expectSinkingBoxRests(0, 0); }
 // and floor samples among its 20 neighbours, so it is not taken for a surface particle): it
 // carries 1e5-1e7 Pa, leaves the gap at up to 130 m/s, and the box is thrown up to 0.63 m and is
 // still flying at t = 1 s (1.6 m/s). Offsets of 11 and 17 mm land quietly (fluid at most 6 m/s).
-// Enable with --gtest_also_run_disabled_tests once the divergence solve leaves under-dense
-// particles free to compress to rho0.
+// Tried and not landed (2026-11-30): dropping the divergence constraint wherever rho_i + dt
+// D rho_i / Dt < rho0 (the density solve's own inequality) fixes this box (it rests, fluid at
+// most 6.4 m/s) but four tests fail: floating bodies stay restless (0.071 m/s against 0.05), the
+// 0.5 rho0 volume-map box floats at +3.9 %, the overlapping start pushes fluid at 5.3 m/s (3.2
+// allowed) and the wide extrapolation column leaves 2 %: the divergence solve's hold on
+// under-dense particles is what calms a free surface. A fix must tell a closing gap from a
+// surface. Enable with --gtest_also_run_disabled_tests.
 TEST(RigidBodies, DISABLED_AnOffCentreSinkingBoxRestsOnTheFloor) { expectSinkingBoxRests(0.003, 0.001); }
 
 TEST(RigidBodies, BoxStacksOnABoxWithoutFluid) {
