@@ -16,7 +16,6 @@ namespace consph::test {
 // for it and stay as they are; a float build gets a tolerance derived from float's epsilon
 // (2^-23 = 1.19e-7) with a comment saying which round-off it covers.
 inline constexpr bool kDoubleBuild = sizeof(Real) == sizeof(double);
-inline constexpr double kEps = std::numeric_limits<Real>::epsilon();
 inline constexpr double kFloatEps = std::numeric_limits<float>::epsilon();
 
 // The tolerance of this build: `doubleTol` in a double build (unchanged from before tests were

@@ -30,6 +30,22 @@ Vector3r fluidMomentum(const FluidModel& f) {
   return p;
 }
 
+// Steps to `until` and returns the largest change of a conserved vector `total()` from one step
+// to the next, relative to its value at the start.
+template <class Total>
+double worstRelativeChangePerStep(Simulation& sim, Total&& total, Real until) {
+  const Vector3r start = total();
+  Vector3r previous = start;
+  double worst = 0;
+  while (sim.time() < until) {
+    sim.step();
+    const Vector3r now = total();
+    worst = std::max(worst, double((now - previous).norm() / start.norm()));
+    previous = now;
+  }
+  return worst;
+}
+
 // Height of the free surface away from a body: the mean over lattice columns (2r wide) of the
 // highest particle centre plus half the lattice spacing d (a particle fills the cube of side d
 // about its centre), skipping columns within `radius` of the body's centre.
@@ -392,14 +408,7 @@ TEST_P(CollisionMomentum, IsConservedToRoundOff) {
   const RigidBody& body = sim->rigidBodies()->bodies().at(0);
   auto total = [&]() -> Vector3r { return fluidMomentum(sim->fluid()) + sim->rigidBodies()->momentum(); };
   const Vector3r p0 = total();
-  Vector3r previous = p0;
-  double worst = 0;
-  while (sim->time() < 0.2) {
-    sim->step();
-    const Vector3r p = total();
-    worst = std::max(worst, double((p - previous).norm() / p0.norm()));
-    previous = p;
-  }
+  const double worst = worstRelativeChangePerStep(*sim, total, Real(0.2));
   std::printf("[ momentum ] %s/%s/%s: body momentum %.4f of the total, worst relative change per step %.3g\n", c.solver,
               c.treatment, c.boundaryModel, double(body.mass * body.v[0] / p0[0]), worst);
   EXPECT_GT(body.mass * body.v[0], 0.05 * p0[0]);  // the fluid did push the body
@@ -443,15 +452,7 @@ TEST_P(CollisionAngularMomentum, IsConservedToRoundOff) {
     const Matrix3r R = body.rotation();
     return L + body.mass * body.x.cross(body.v) + R * body.inertiaBody * R.transpose() * body.w;
   };
-  const Vector3r L0 = total();
-  Vector3r previous = L0;
-  double worst = 0;
-  while (sim->time() < 0.2) {
-    sim->step();
-    const Vector3r L = total();
-    worst = std::max(worst, double((L - previous).norm() / L0.norm()));
-    previous = L;
-  }
+  const double worst = worstRelativeChangePerStep(*sim, total, Real(0.2));
   std::printf("[ angular momentum ] %s: body spins at %.3f rad/s, worst relative change per step %.3g\n", GetParam(),
               double(body.w.norm()), worst);
   EXPECT_GT(body.w.norm(), 0.1);  // the hit did turn the body
