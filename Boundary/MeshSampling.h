@@ -21,11 +21,6 @@ void addCreaseSamples(const TriangleMesh& mesh, Real spacing, Real normalOffset,
 // Removes every point closer than 0.98 distances[i] to some triangle.
 void dropPointsNearerThan(const TriangleMesh& mesh, const std::vector<Real>& distances, std::vector<Vector3r>& points);
 
-// The point of triangle abc closest to p.
-// `onFace` (optional): set when the closest point lies inside the face, not on an edge or a vertex.
-Vector3r closestPointOnTriangle(const Vector3r& p, const Vector3r& a, const Vector3r& b, const Vector3r& c,
-                                bool* onFace = nullptr);
-
 // Regular grids on the six faces of the box [lo, hi], edges and corners once.
 std::vector<Vector3r> sampleBoxSurface(const Vector3r& lo, const Vector3r& hi, Real spacing);
 

@@ -236,7 +236,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   SceneDescription s;
   s.raw = scene;
   s.baseDir = baseDir;
-  Params top(scene, "", {}, log, {"name", "description", "simulation", "fluids", "boundaries", "output"});
+  Params top(scene, "", {}, log, {"name", "description", "simulation", "fluids", "boundaries", "probes", "output"});
   (void)top;
 
   // simulation
@@ -253,9 +253,10 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
              {"particleSpacing", ParamType::Real, 1.8566, "lattice spacing of fluid blocks in particle radii r (particle volume = spacing^3); the default gives SPlisHSPlasH's volume 0.8 (2r)^3", 1.2, 3},
              {"sortInterval", ParamType::Int, 50, "re-sort particles in Z-order every this many steps (0: never)", 0, 1e9},
              {"iterationCapSteps", ParamType::Int, 100, "stop when the pressure solver hits its iteration cap this many steps in a row", 1, 1e9},
-             {"boundaryPressure", ParamType::String, "consistent", "boundary neighbours in the pressure solve",
+             {"boundaryPressure", ParamType::String, "auto",
+              "boundary neighbours in the pressure solve (auto: extrapolation with sampled walls, consistent with volume maps)",
               -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-              {"consistent", "mirroring", "extrapolation"}}},
+              {"auto", "consistent", "mirroring", "extrapolation"}}},
             log, {"pressureSolver", "boundaryModel", "domain"});
   s.particleRadius = sp.real("particleRadius");
   s.gravity = sp.vector3("gravity");
@@ -269,6 +270,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   s.sortInterval = sp.integer("sortInterval");
   s.iterationCapSteps = sp.integer("iterationCapSteps");
   const std::string bp = sp.string("boundaryPressure");
+  s.boundaryPressureAuto = bp == "auto";
   s.boundaryPressure = bp == "mirroring" ? BoundaryPressure::Mirroring
                        : bp == "extrapolation" ? BoundaryPressure::Extrapolation
                                                : BoundaryPressure::Consistent;
@@ -356,11 +358,16 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   Params op(out, "output",
             {{"enabled", ParamType::Bool, true, "write frames"},
              {"directory", ParamType::String, "output", "output folder (relative to the working directory)"},
-             {"fps", ParamType::Real, 25.0, "frames per simulated second", 1e-3, 1e6}},
+             {"fps", ParamType::Real, 25.0, "frames per simulated second", 1e-3, 1e6},
+             {"probeFps", ParamType::Real, 0.0, "rows of probes.csv per simulated second (0: one per step)", 0, 1e9}},
             log, {});
   s.output.enabled = op.boolean("enabled");
   s.output.directory = op.string("directory");
   s.output.fps = op.real("fps");
+  s.output.probeFps = op.real("probeFps");
+
+  // probes (resolved against the boundaries when the simulation is built)
+  s.probes = parseProbes(child(scene, "probes"), log);
   return s;
 }
 

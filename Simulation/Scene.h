@@ -7,6 +7,7 @@
 #include "Simulation/BoundaryModel.h"
 #include "Simulation/Emitter.h"
 #include "Simulation/Params.h"
+#include "Simulation/Probes.h"
 #include "Simulation/StepContext.h"
 
 namespace consph {
@@ -31,6 +32,7 @@ struct OutputSettings {
   bool enabled = true;
   std::string directory = "output";
   Real fps = 25;
+  Real probeFps = 0;  // probe rows per simulated second; 0: every step
 };
 
 struct SceneDescription {
@@ -45,6 +47,9 @@ struct SceneDescription {
   int sortInterval = 50;
   int iterationCapSteps = 100;  // stop when the solver hit its cap this many steps in a row
   BoundaryPressure boundaryPressure = BoundaryPressure::Consistent;
+  // "auto" (the default): chosen by the boundary model when the simulation is built,
+  // extrapolation for sampled walls, consistent for implicit ones (docs/boundary-pressure.md).
+  bool boundaryPressureAuto = true;
   json pressureSolver;  // {"type": ..., params}
   json boundaryModel;   // {"type": ..., params}
   bool hasDomain = false;
@@ -52,6 +57,7 @@ struct SceneDescription {
 
   std::vector<FluidDescription> fluids;
   std::vector<BoundaryObject> boundaries;
+  std::vector<ProbeDescription> probes;
   OutputSettings output;
 };
 

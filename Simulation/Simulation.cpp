@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "Boundary/MassProperties.h"
+#include "Utilities/LineFile.h"
 #include "Utilities/Timer.h"
 #include "Utilities/VtkWriter.h"
 
@@ -25,6 +26,12 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
   boundaryModel_ = plugins_.boundaryModels.create(scene_.boundaryModel["type"].get<std::string>(), scene_.boundaryModel,
                                                   "simulation.boundaryModel", context, log_);
   boundaryModel_->initialize(scene_.boundaries, *fluid_, kernel_);
+  // "auto": the treatment whose wall loads and wall-layer pressures match hydrostatics with this
+  // wall model (measured, docs/boundary-pressure.md): MLS extrapolation where the walls are
+  // samples (consistent holds its wall layer at ~1.5 x hydrostatic there and pushes a side wall
+  // 3 % too hard), consistent for volume maps, where extrapolation would be mirroring.
+  if (scene_.boundaryPressureAuto)
+    scene_.boundaryPressure = boundaryModel_->implicit() ? BoundaryPressure::Consistent : BoundaryPressure::Extrapolation;
   if (boundaryModel_->implicit() && scene_.boundaryPressure == BoundaryPressure::Extrapolation)
     log_(LogLevel::Warning, "simulation.boundaryPressure: \"extrapolation\" with " + scene_.boundaryModel["type"].get<std::string>() +
                                 " walls fits each virtual boundary particle from its one fluid neighbour: p_k = p_i, as mirroring");
@@ -64,6 +71,11 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
     const Vector3r margin = Real(0.05) * (domainMax_ - domainMin_) + Vector3r::Constant(kernel_.supportRadius());
     domainMin_ -= margin;
     domainMax_ += margin;
+  }
+  if (!scene_.probes.empty()) {
+    probes_ = std::make_unique<Probes>(scene_.probes, scene_.boundaries, kernel_.supportRadius(), scene_.gravity);
+    if (!scene_.output.enabled)
+      log_(LogLevel::Info, "probes: output is off, so probes.csv is not written (the latest values are in the summary)");
   }
   dt_ = dtPrevious_ = scene_.initialTimeStep;
   if (scene_.output.enabled) setOutputDirectory(scene_.output.directory);
@@ -138,14 +150,23 @@ void Simulation::emitParticles() {
 }
 
 void Simulation::coupleRigidBodies(StepContext& ctx) {
-  // Eq. (35): the reaction of the solver's boundary term on every sample of a moving body,
-  // summed into force and torque per body; then the bodies move and take their samples along.
-  // Animated bodies are not moved by it, but their fluid force is reported too.
-  pressureSolver_->boundaryImpulses(ctx, pairImpulses_);
+  // Eq. (35): the reaction of the solver's boundary term on every sample of a moving body
+  // (pairImpulses_, from measureWallLoads), summed into force and torque per body; then the
+  // bodies move and take their samples along. Animated bodies are not moved by it, but their
+  // fluid force is reported too.
   bodies_->gatherFluidImpulses(boundaryNeighbors_, fluid_->positions, boundaryModel_->samples(), pairImpulses_);
   bodies_->advance(dt_, scene_.gravity, boundaryModel_->samples());
   bodies_->updateBoundary(*boundaryModel_);
   boundaryModel_->markMoved();
+}
+
+void Simulation::measureWallLoads(StepContext& ctx) {
+  pressureSolver_->boundaryImpulses(ctx, pairImpulses_);
+  if (!probes_ || !probes_->readsLoads()) return;
+  // Torques about the moving bodies' centres of mass where they are during this step.
+  if (bodies_)
+    for (const RigidBody& b : bodies_->bodies()) probes_->setObjectCentre(b.object, b.x);
+  probes_->measureLoads(boundaryNeighbors_, fluid_->positions, boundaryModel_->samples(), pairImpulses_, dt_);
 }
 
 void Simulation::removeParticlesOutside() {
@@ -214,6 +235,11 @@ void Simulation::step() {
   const PressureSolverStats& ps = pressureSolver_->stats();
   stats_.pressureIterations += ps.pressureIterations;
   stats_.divergenceIterations += ps.divergenceIterations;
+  // Wall loads: the solver's reaction on every boundary sample, for the bodies and the probes.
+  if (bodies_ || (probes_ && probes_->readsLoads())) {
+    ScopedTimer t(bodies_ ? stats_.rigidBodies : stats_.probes);
+    measureWallLoads(ctx);
+  }
   // Rigid-body coupling: fluid impulses move the bodies (Eq. 35), the bodies move their samples.
   if (bodies_) {
     ScopedTimer t(stats_.rigidBodies);
@@ -239,6 +265,11 @@ void Simulation::step() {
     stats_.consecutiveCapHits = 0;
   }
   checkState();
+  if (probes_) {
+    ScopedTimer t(stats_.probes);
+    probes_->measureLevels(*fluid_, kernel_);
+    writeProbeRowIfDue();
+  }
   stats_.wallSeconds += stepTimer.seconds();
   if (writer_) {
     ScopedTimer t(stats_.exportTime);
@@ -388,10 +419,16 @@ void Simulation::setOutputDirectory(const std::string& dir) {
     writeFileAtomically((std::filesystem::path(dir) / "boundary.vtu").string(), cloud.serialize());
   }
   nextFrame_ = std::size_t(std::ceil(time_ * scene_.output.fps - Real(1e-6)));
+  if (probes_) {
+    std::string header = "time";
+    for (const std::string& c : probes_->columns()) header += "," + c;
+    probeFile_ = std::make_unique<LineFile>((std::filesystem::path(dir) / "probes.csv").string(), header);
+    nextProbeRow_ = scene_.output.probeFps > 0 ? std::size_t(std::ceil(time_ * scene_.output.probeFps - Real(1e-6))) : 0;
+  }
 }
 
 void Simulation::setOutputEnabled(bool enabled) {
-  if (!enabled) writer_.reset(), bodyWriter_.reset();
+  if (!enabled) writer_.reset(), bodyWriter_.reset(), probeFile_.reset();
   else if (!writer_) setOutputDirectory(scene_.output.directory);
   scene_.output.enabled = enabled;
 }
@@ -412,6 +449,24 @@ void Simulation::writeFrameIfDue() {
     writeFileAtomically((std::filesystem::path(scene_.output.directory) / "bodies.csv").string(), bodyCsv_);
   }
   ++nextFrame_;
+}
+
+void Simulation::writeProbeRowIfDue() {
+  // Every step, or once the simulated time reaches index / probeFps (within half a step).
+  if (!probeFile_) return;
+  const Real fps = scene_.output.probeFps;
+  if (fps > 0) {
+    if (time_ + Real(0.5) * dt_ < Real(nextProbeRow_) / fps) return;
+    ++nextProbeRow_;
+  }
+  char number[32];
+  std::snprintf(number, sizeof(number), "%.9g", double(time_));
+  std::string row = number;
+  for (double v : probes_->values()) {
+    std::snprintf(number, sizeof(number), ",%.9g", v);
+    row += number;
+  }
+  probeFile_->append(row);
 }
 
 void Simulation::exportFrame(const std::string& path) {
@@ -456,7 +511,9 @@ json Simulation::summary() const {
         {"integration", s.integration},
         {"rigidBodies", s.rigidBodies},
         {"emission", s.emission},
+        {"probes", s.probes},
         {"export", s.exportTime}}},
+      {"probes", probes_ ? probes_->latest() : json::object()},
   };
 }
 

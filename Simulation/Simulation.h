@@ -9,12 +9,14 @@
 #include "Boundary/RigidBodySystem.h"
 #include "Simulation/Emitter.h"
 #include "Simulation/PluginRegistry.h"
+#include "Simulation/Probes.h"
 #include "Simulation/Scene.h"
 #include "Utilities/Log.h"
 
 namespace consph {
 
 class VtkSeries;
+class LineFile;
 
 // Accumulated figures of a run (the CLI's summary, Python's sim.summary()).
 struct SimulationStats {
@@ -29,7 +31,7 @@ struct SimulationStats {
   std::size_t particlesDroppedInsideBodies = 0;            // at start-up, inside closed bodies
   // seconds per phase
   double neighbourSearch = 0, densities = 0, divergenceSolve = 0, nonPressureForces = 0, pressureSolve = 0,
-         integration = 0, exportTime = 0, rigidBodies = 0, emission = 0;
+         integration = 0, exportTime = 0, rigidBodies = 0, emission = 0, probes = 0;
 };
 
 class Simulation {
@@ -66,6 +68,8 @@ class Simulation {
   // The moving boundary objects (dynamic and animated bodies); null when every object is static.
   const RigidBodySystem* rigidBodies() const { return bodies_.get(); }
   RigidBodySystem* rigidBodies() { return bodies_.get(); }
+  // The scene's probes; null when it has none.
+  const Probes* probes() const { return probes_.get(); }
 
   // Appends a force (e.g. one written in Python) after the scene's forces.
   void addForce(std::unique_ptr<NonPressureForce> force);
@@ -96,6 +100,8 @@ class Simulation {
   void integrate();
   void checkState();
   void writeFrameIfDue();
+  void measureWallLoads(StepContext& ctx);
+  void writeProbeRowIfDue();
   StepContext makeContext();
 
   SceneDescription scene_;
@@ -111,7 +117,10 @@ class Simulation {
   std::unique_ptr<VtkSeries> writer_, bodyWriter_;
   std::string bodyCsv_;  // every frame's body rows so far (rewritten atomically per frame)
   std::unique_ptr<RigidBodySystem> bodies_;
-  std::vector<Vector3r> pairImpulses_;  // per fluid-boundary pair, this step (two-way coupling)
+  std::vector<Vector3r> pairImpulses_;  // per fluid-boundary pair, this step (two-way coupling, probes)
+  std::unique_ptr<Probes> probes_;
+  std::unique_ptr<LineFile> probeFile_;  // OUTPUT/probes.csv
+  std::size_t nextProbeRow_ = 0;
   std::vector<Emitter> emitters_;
   Index nextId_ = 0;                    // id of the next emitted particle
 

@@ -73,4 +73,27 @@ void transformMesh(TriangleMesh& mesh, const Vector3r& scale, const Vector3r& ax
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
 }
 
+Vector3r closestPointOnTriangle(const Vector3r& p, const Vector3r& a, const Vector3r& b, const Vector3r& c, bool* onFace) {
+  if (onFace) *onFace = false;
+  // Voronoi regions of the vertices, edges and face (C. Ericson, Real-Time Collision Detection, 5.1.5).
+  const Vector3r ab = b - a, ac = c - a, ap = p - a;
+  const Real d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vector3r bp = p - b;
+  const Real d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const Real vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Vector3r cp = p - c;
+  const Real d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const Real vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const Real va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  if (onFace) *onFace = true;
+  const Real denom = Real(1) / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
 }  // namespace consph

@@ -26,4 +26,9 @@ TriangleMesh loadMesh(const std::string& path);
 // x -> R (scale .* x) + translation, R the rotation about `axis` by `angle` (radians).
 void transformMesh(TriangleMesh& mesh, const Vector3r& scale, const Vector3r& axis, Real angle, const Vector3r& translation);
 
+// The point of triangle abc closest to p.
+// `onFace` (optional): set when the closest point lies inside the face, not on an edge or a vertex.
+Vector3r closestPointOnTriangle(const Vector3r& p, const Vector3r& a, const Vector3r& b, const Vector3r& c,
+                                bool* onFace = nullptr);
+
 }  // namespace consph

@@ -248,6 +248,14 @@ output: None (the scene's "output"), False (write no frames) or a directory for 
       .def("summary", [](PySimulation& s) { return toPython(s.simulation().summary()); },
            "The run's summary figures as a dict (the CLI's --summary-json).")
       .def_property_readonly(
+          "probes",
+          [](PySimulation& s) {
+            const Probes* p = s.simulation().probes();
+            return toPython(p ? p->latest() : json::object());
+          },
+          "The scene's probes after the last step, {column: value} as in probes.csv (pressure in Pa, level in m, "
+          "force probes as NAME.fx .. NAME.tz in N and N m); empty without probes.")
+      .def_property_readonly(
           "bodies",
           [](PySimulation& s) {
             // Copies: a scene has a handful of bodies, and their state lives in Eigen types.

@@ -85,7 +85,7 @@ TEST(Scene, UnknownPluginListsRegisteredOnes) {
   EXPECT_NE(msg.find("StandardViscosity"), std::string::npos) << msg;
   s = minimalScene();
   s["simulation"]["boundaryPressure"] = "magic";
-  EXPECT_NE(errorOf(s).find("simulation.boundaryPressure: 'magic' is not one of consistent mirroring extrapolation"),
+  EXPECT_NE(errorOf(s).find("simulation.boundaryPressure: 'magic' is not one of auto consistent mirroring extrapolation"),
             std::string::npos)
       << errorOf(s);
 }
