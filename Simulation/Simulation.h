@@ -80,6 +80,9 @@ class Simulation {
   void setOutputFps(Real fps);
   // Writes the current state to one .vtu file (atomically).
   void exportFrame(const std::string& path);
+  // Fills the particle field "pressureAverage", the kernel average of the pressure over each
+  // particle's neighbourhood (what to read as the pressure field); every frame does it itself.
+  void computeAveragedPressure();
 
   // The summary figures (the CLI prints them; --summary-json writes them).
   json summary() const;
@@ -118,6 +121,7 @@ class Simulation {
   std::string bodyCsv_;  // every frame's body rows so far (rewritten atomically per frame)
   std::unique_ptr<RigidBodySystem> bodies_;
   std::vector<Vector3r> pairImpulses_;  // per fluid-boundary pair, this step (two-way coupling, probes)
+  std::vector<Real>* averagedPressure_ = nullptr;  // the exported field "pressureAverage"
   std::unique_ptr<Probes> probes_;
   std::unique_ptr<LineFile> probeFile_;  // OUTPUT/probes.csv
   std::size_t nextProbeRow_ = 0;

@@ -72,6 +72,10 @@ TEST(Failures, IterationCapEveryStepStops) {
   json scene = tinyScene();
   scene["simulation"]["pressureSolver"] = {{"type", "DFSPH"}, {"maxError", 1e-6}, {"maxIterations", 1}, {"minIterations", 0}};
   scene["simulation"]["iterationCapSteps"] = 5;
+  // The treatment this test was written for: with one iteration per step, extrapolation's
+  // warm-started boundary pressures leave steps without compression in between (measured: no
+  // run of 5 capped steps within 1 s), so the cap mechanism is tested where it is hit every step.
+  scene["simulation"]["boundaryPressure"] = "consistent";
   auto sim = test::simulationFromJson(scene);
   try {
     sim->run(1);

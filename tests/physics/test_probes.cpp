@@ -87,6 +87,28 @@ TEST_P(RestingTank, WallLoadsMatchHydrostatics) {
   // The level gauge sees the fluid's top: within a particle spacing of volume / area.
   const double volumeHeight = double(sim->fluid().size()) * std::pow(double(kSpacing), 3) / (kWidth * kWidth);
   EXPECT_NEAR(H, volumeHeight, kSpacing);
+  // The pressure field up to the walls: every particle deeper than 3r, wall layers included,
+  // within RMS 2 % of rho0 g H of rho0 g d (d below the gauge's surface). Fitted slope: the
+  // issue's 1 % holds in the 10 x 10 x 20 tank of bench/wall_pressure.py (1.0047); in this
+  // smaller one, where a third of the particles touch a wall, it reads 1.019 (measured
+  // 2026-12-01), so this fast version asserts 2 %.
+  // Read from the exported field pressureAverage (the solver's per-particle values scatter by
+  // ~5 % of rho0 g H at the bottom: measured RMS 5.4 % raw, 1.0 % averaged, 10 x 10 x 20 tank).
+  sim->computeAveragedPressure();
+  const FluidModel& f = sim->fluid();
+  const std::vector<Real>& p = sim->fluid().fields().get<Real>("pressureAverage");
+  test::LineFit fit;
+  double squares = 0;
+  int count = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const double depth = H - f.positions[i][1];
+    if (depth <= 3 * kR) continue;
+    fit.add(depth, p[i]);
+    squares += std::pow(p[i] - kRho0 * kG * depth, 2);
+    ++count;
+  }
+  EXPECT_LT(std::sqrt(squares / count) / (kRho0 * kG * H), 0.02) << "pressure field RMS over " << count << " particles";
+  EXPECT_NEAR(fit.slope() / (kRho0 * kG), 1.0, 0.02);
 }
 
 // "auto" is the default (extrapolation with these Akinci walls).

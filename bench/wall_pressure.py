@@ -1,0 +1,256 @@
+#!/usr/bin/python3
+"""Wall pressure and wall loads per solver x boundary model x treatment (the wall-pressure issue).
+
+Two cases, each run through the consph Python module (PYTHONPATH=build/python), one process per
+combination:
+  tank     an N x N x 2N block of water drawn up to the walls of its tank (r = 0.025 m; N = 10 by
+           default), rests for 3 s; means over the last 0.5 s of
+             particle RMS  of p - rho0 g d over every particle deeper than 3r (wall layers
+                           included), d below the level gauge's surface, in % of rho0 g H; "raw" is
+                           the solver's pressure, "shepard" its kernel average over each particle's
+                           neighbourhood (sum_j V_j p_j W_ij / sum_j V_j W_ij), one frame (t = 3 s);
+             slope         of p against d over the same particles, in rho0 g (raw);
+             wall layers   mean p / rho0 g d of the particles within one spacing of the floor and of
+                           a side wall (raw);
+             floor probe   pressure probe at the floor's centre / (weight / area);
+             side probe    pressure probe on a side wall at mid-depth / rho0 g (H - y);
+             floor force   force probe on the tank (vertical) / weight;
+             side force    force probe on one wall / (g w sum_j m_j y_j / A), the hydrostatic force
+                           of the fluid as it lies (= rho0 g H^2 w / 2 at density rho0);
+  held box a static 0.2 m cube held at mid-depth in a 0.6 x 0.8 x 0.6 m tank (r = 0.02 m):
+             fluid force on it / rho0 V g, means over 1.5-2 s;
+  jet      a 2 m/s jet without gravity onto a plate (r = 0.01 m): plate force / (mdot U), means
+           over 0.3-0.6 s.
+Prints a markdown table (machine, threads, precision in its header), writes it to
+bench/results/wall_pressure.md and p(depth) PNGs (raw and Shepard) to
+bench/results/wall_pressure_<solver>_<model>_<treatment>.png.
+Usage: /usr/bin/python3 bench/wall_pressure.py [--threads 1] [--jobs 2] [--quick]
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+from machine import machine_line  # noqa: E402
+
+SOLVERS = ["DFSPH", "IISPH"]
+MODELS = ["Akinci2012", "VolumeMap"]
+TREATMENTS = ["consistent", "mirroring", "extrapolation"]
+R, RHO0, G = 0.025, 1000.0, 9.81
+SPACING = 1.8566 * R
+
+
+def tank_scene(solver, model, treatment, n):
+    w, hb = n * SPACING, 2 * n * SPACING
+    ps = {"type": solver}
+    if solver == "IISPH":
+        ps["maxIterations"] = 300  # 0.01 % under 1 m of water needs more than the default 100
+    return {
+        "name": "RestingTank",
+        "simulation": {"particleRadius": R, "stopAt": 3.0, "boundaryPressure": treatment, "boundaryModel": {"type": model},
+                       "pressureSolver": ps},
+        "fluids": [{"name": "water", "forces": [{"type": "StandardViscosity", "viscosity": 0.01}],
+                    "blocks": [{"min": [0, 0, 0], "max": [w + 1e-9, hb + 1e-9, w + 1e-9]}]}],
+        "boundaries": [{"name": "tank", "box": {"min": [0, 0, 0], "max": [w, 3 * hb, w]}, "inverted": True}],
+        "probes": [{"name": "floor", "kind": "pressure", "position": [w / 2, 0, w / 2]},
+                   {"name": "side", "kind": "pressure", "position": [0, hb / 2, w / 2]},
+                   {"name": "level", "kind": "level", "position": [w / 2, 0, w / 2]},
+                   {"name": "tank", "kind": "force", "boundary": "tank"},
+                   {"name": "wall", "kind": "force", "boundary": "tank",
+                    "region": {"min": [-1, 0.3 * R, -1], "max": [0.3 * R, 10, 10]}}],
+        "output": {"enabled": False},
+    }
+
+
+def box_scene(solver, model, treatment):
+    r = 0.02
+    ps = {"type": solver}
+    if solver == "IISPH":
+        ps["maxIterations"] = 300
+    return {
+        "name": "HeldBox",
+        "simulation": {"particleRadius": r, "stopAt": 2.0, "boundaryPressure": treatment, "boundaryModel": {"type": model},
+                       "pressureSolver": ps},
+        "fluids": [{"name": "water", "forces": [{"type": "StandardViscosity", "viscosity": 0.01}],
+                    "blocks": [{"min": [0, 0, 0], "max": [0.6, 0.6, 0.6]}]}],
+        "boundaries": [{"name": "tank", "box": {"min": [0, 0, 0], "max": [0.6, 1.0, 0.6]}, "inverted": True},
+                       {"name": "box", "box": {"min": [0.2, 0.2, 0.2], "max": [0.4, 0.4, 0.4]}}],
+        "probes": [{"name": "box", "kind": "force", "boundary": "box"}],
+        "output": {"enabled": False},
+    }
+
+
+def jet_scene(solver, model, treatment):
+    # A 2 m/s round jet (radius 0.04 m, r = 0.01 m) without gravity onto a plate 0.2 m away;
+    # particles that leave the plate's neighbourhood are removed.
+    return {
+        "name": "Jet",
+        "simulation": {"particleRadius": 0.01, "gravity": [0, 0, 0], "stopAt": 0.6, "boundaryPressure": treatment,
+                       "boundaryModel": {"type": model}, "pressureSolver": {"type": solver},
+                       "domain": {"min": [-1, -1, -1], "max": [1, 1, 1]}},
+        "fluids": [{"name": "water", "forces": [{"type": "StandardViscosity", "viscosity": 0.01}],
+                    "emitters": [{"shape": "circle", "position": [0, 0.2, 0], "direction": [0, -1, 0], "speed": 2.0,
+                                  "radius": 0.04}],
+                    "removeOutside": {"min": [-0.2, -0.1, -0.2], "max": [0.2, 0.5, 0.2]}}],
+        "boundaries": [{"name": "plate", "box": {"min": [-0.3, -0.05, -0.3], "max": [0.3, 0, 0.3]}}],
+        "probes": [{"name": "plate", "kind": "force", "boundary": "plate"}],
+        "output": {"enabled": False},
+    }
+
+
+def measure(case, solver, model, treatment, n, threads):
+    """Runs one combination in this process (the child of main) and returns its figures."""
+    import numpy as np
+    import consph
+    consph.set_num_threads(threads)
+    out = {}
+    if case == "tank":
+        sim = consph.Simulation.from_dict(tank_scene(solver, model, treatment, n))
+        f = sim.fluid("water")
+        w = n * SPACING
+        weight = len(f.positions) * f.masses[0] * G
+        t0 = time.time()
+        sim.run(until=2.5)
+        rows, moment = [], []
+        while sim.time < 3.0 - 1e-9:
+            sim.step(1)
+            rows.append(sim.probes)
+            moment.append(float(np.sum(f.masses * f.positions[:, 1])))
+        wall = time.time() - t0
+        avg = {k: float(np.mean([r[k] for r in rows])) for k in rows[0]}
+        H = avg["level"]
+        x, p, rho, m = f.positions.copy(), f.pressures.copy(), f.densities.copy(), f.masses.copy()
+        h = 4 * R
+        dist = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2) / h
+        kern = np.where(dist <= 0.5, 6 * (dist ** 3 - dist ** 2) + 1, np.where(dist <= 1, 2 * (1 - dist) ** 3, 0.0))
+        kern *= (m / rho)[None, :]
+        shepard = kern @ p / kern.sum(1)
+        depth = H - x[:, 1]
+        deep = depth > 3 * R
+        ref = RHO0 * G * depth[deep]
+        norm = RHO0 * G * H
+        out["rms_raw"] = 100 * float(np.sqrt(np.mean((p[deep] - ref) ** 2)) / norm)
+        out["rms_shepard"] = 100 * float(np.sqrt(np.mean((shepard[deep] - ref) ** 2)) / norm)
+        out["slope"] = float(np.polyfit(depth[deep], p[deep], 1)[0] / (RHO0 * G))
+        floor = deep & (x[:, 1] < SPACING)
+        side = deep & (x[:, 1] > SPACING) & (np.minimum(np.minimum(x[:, 0], w - x[:, 0]), np.minimum(x[:, 2], w - x[:, 2])) < SPACING)
+        out["floor_layer"] = float(np.mean(p[floor]) / np.mean(RHO0 * G * depth[floor]))
+        out["side_layer"] = float(np.mean(p[side]) / np.mean(RHO0 * G * depth[side]))
+        out["floor_probe"] = avg["floor"] / (weight / (w * w))
+        out["side_probe"] = avg["side"] / (RHO0 * G * (H - n * SPACING))
+        out["floor_force"] = -avg["tank.fy"] / weight
+        out["side_force"] = -avg["wall.fx"] / (G * w * float(np.mean(moment)) / (w * w))
+        out["level"] = H
+        out["ms_per_step"] = sim.summary()["msPerStep"]
+        out["steps"] = sim.step_count
+        out["profile"] = {"depth": depth[deep].tolist(), "raw": p[deep].tolist(), "shepard": shepard[deep].tolist(),
+                          "H": H}
+        out["wall_seconds_last_half"] = wall
+    elif case == "jet":
+        # Plate force against the momentum flux mdot U, mdot counted from the emitted particles,
+        # means over 0.3-0.6 s (the jet reaches the plate at 0.1 s).
+        sim = consph.Simulation.from_dict(jet_scene(solver, model, treatment))
+        f = sim.fluid("water")
+        sim.run(until=0.3)
+        emitted0, t0, fy = sim.summary()["particlesEmitted"], sim.time, []
+        while sim.time < 0.6 - 1e-9:
+            sim.step(1)
+            fy.append(sim.probes["plate.fy"])
+        mdot = (sim.summary()["particlesEmitted"] - emitted0) * float(f.masses[0]) / (sim.time - t0)
+        out["jet"] = -float(np.mean(fy)) / (mdot * 2.0)
+    else:
+        sim = consph.Simulation.from_dict(box_scene(solver, model, treatment))
+        sim.run(until=1.5)
+        fy = []
+        while sim.time < 2.0 - 1e-9:
+            sim.step(1)
+            fy.append(sim.probes["box.fy"])
+        out["buoyancy"] = float(np.mean(fy)) / (RHO0 * 0.2 ** 3 * G)
+    out["resolved_treatment"] = sim.summary()["boundaryPressure"]
+    out["precision"] = consph.precision
+    return out
+
+
+def plot(results, path_prefix):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    for key, res in results.items():
+        prof = res.get("profile")
+        if not prof:
+            continue
+        fig, ax = plt.subplots(figsize=(4, 4))
+        ax.plot(prof["raw"], prof["depth"], ".", ms=2, label="particle p (raw)")
+        ax.plot(prof["shepard"], prof["depth"], ".", ms=2, label="Shepard average")
+        dmax = max(prof["depth"])
+        ax.plot([0, RHO0 * G * dmax], [0, dmax], "k-", lw=1, label="rho0 g d")
+        ax.invert_yaxis()
+        ax.set_xlabel("pressure, Pa")
+        ax.set_ylabel("depth below the level gauge's surface, m")
+        ax.set_title(key.replace("_", " "), fontsize=9)
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(f"{path_prefix}_{key}.png", dpi=110)
+        plt.close(fig)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--n", type=int, default=10, help="tank columns per side (layers: 2n)")
+    ap.add_argument("--quick", action="store_true", help="DFSPH only")
+    ap.add_argument("--child", help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.child:
+        case, solver, model, treatment = args.child.split(",")
+        print(json.dumps(measure(case, solver, model, treatment, args.n, args.threads)))
+        return
+    solvers = ["DFSPH"] if args.quick else SOLVERS
+    combos = [(c, s, m, t) for s in solvers for m in MODELS for t in TREATMENTS + ["auto"] for c in ("tank", "box", "jet")]
+    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "build", "python"), OMP_NUM_THREADS=str(args.threads))
+
+    def run(combo):
+        cmd = [sys.executable, __file__, "--child", ",".join(combo), "--n", str(args.n), "--threads", str(args.threads)]
+        res = subprocess.run(cmd, capture_output=True, text=True, env=env)
+        if res.returncode != 0:
+            return combo, {"error": (res.stderr.strip().splitlines() or ["?"])[-1]}
+        return combo, json.loads(res.stdout.strip().splitlines()[-1])
+
+    with ThreadPoolExecutor(args.jobs) as pool:
+        done = list(pool.map(run, combos))
+    results = {}
+    for (case, s, m, t), res in done:
+        results.setdefault(f"{s}_{m}_{t}", {}).update(res)
+    precision = next((r["precision"] for r in results.values() if "precision" in r), "?")
+    lines = [f"Machine: {machine_line()}; {args.threads} thread(s) per run, {args.jobs} runs at a time; {precision}; "
+             f"tank {args.n} x {args.n} x {2 * args.n} at r = {R} m (3 s), held box r = 0.02 m (2 s).", "",
+             "| solver | walls | treatment | particle RMS raw / Shepard, % rho0 g H | slope | floor layer | side layer | "
+             "floor probe | side probe | floor force / weight | side force / hydrostatic | held box / rho0 V g | jet / mdot U | tank ms/step |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for key, r in results.items():
+        s, m, t = key.split("_")
+        if "rms_raw" not in r:
+            lines.append(f"| {s} | {m} | {t} | failed: {r.get('error', '?')} |")
+            continue
+        name = t if t != "auto" else f"auto ({r['resolved_treatment']})"
+        lines.append(f"| {s} | {m} | {name} | {r['rms_raw']:.1f} / {r['rms_shepard']:.1f} | {r['slope']:.3f} | "
+                     f"{r['floor_layer']:.2f} | {r['side_layer']:.2f} | {r['floor_probe']:.3f} | {r['side_probe']:.3f} | "
+                     f"{r['floor_force']:.4f} | {r['side_force']:.3f} | {r.get('buoyancy', float('nan')):.3f} | {r.get('jet', float('nan')):.3f} | "
+                     f"{r['ms_per_step']:.2f} |")
+    table = "\n".join(lines) + "\n"
+    print(table)
+    os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
+    with open(os.path.join(HERE, "results", "wall_pressure.md"), "w") as out:
+        out.write(table)
+    plot(results, os.path.join(HERE, "results", "wall_pressure"))
+
+
+if __name__ == "__main__":
+    main()
