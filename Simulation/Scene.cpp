@@ -1,9 +1,11 @@
 #include "Simulation/Scene.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "Simulation/JsonLimits.h"
 #include "Utilities/Error.h"
 
 namespace consph {
@@ -23,28 +25,23 @@ json readJsonFile(const std::string& path) {
   std::stringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();
+  checkJsonLimits(text, path);
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
-    // Line and column of the offending byte.
-    std::size_t line = 1, column = 1;
-    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
     std::string what = e.what();
     const auto colon = what.find(": ", what.find("parse error"));
     if (colon != std::string::npos) what = what.substr(colon + 2);
-    throw InputError(path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": malformed JSON: " + what);
+    // e.byte is 1-based: the offending byte itself.
+    throw InputError(path + ":" + lineColumn(text, e.byte > 0 ? e.byte - 1 : 0) + ": malformed JSON: " + what);
+  } catch (const json::exception& e) {
+    throw InputError(path + ": malformed JSON: " + e.what());
   }
 }
 
 void applyOverride(json& scene, const std::string& dottedPath, const std::string& valueText) {
   json value;
+  checkJsonLimits(valueText, "--set " + dottedPath);
   try {
     value = json::parse(valueText);
   } catch (const json::parse_error&) {

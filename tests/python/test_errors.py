@@ -65,3 +65,36 @@ def test_warnings_reach_python():
         with pytest.raises(consph.ConsphWarning):  # warnings-as-errors works as in any Python library
             consph.Simulation.from_dict(scene)
     consph.Simulation.from_dict(free_particles_scene())  # no warnings for a clean scene
+
+
+def test_unconvertible_scene_values_raise_scene_error_with_the_path():
+    # Issue 16: these segfaulted (recursion) or raised RuntimeError "Unable to cast".
+    scene = tank_scene()
+    loop = []
+    loop.append(loop)
+    scene["description"] = loop
+    with pytest.raises(consph.SceneError, match=r"^scene\.description\[0\]: the list contains itself$"):
+        consph.Simulation.from_dict(scene)
+    deep = {}
+    for _ in range(50000):
+        deep = {"a": deep}
+    scene["description"] = deep
+    with pytest.raises(consph.SceneError, match=r"^scene\.description(\.a)+: nested deeper than 200 levels$"):
+        consph.Simulation.from_dict(scene)
+    scene = tank_scene(sortInterval=2 ** 64)
+    with pytest.raises(consph.SceneError, match=r"^scene\.simulation\.sortInterval: the integer 18446744073709551616 is out"):
+        consph.Simulation.from_dict(scene)
+    scene = tank_scene(sortInterval=-2 ** 63 - 1)
+    with pytest.raises(consph.SceneError, match=r"^scene\.simulation\.sortInterval: the integer"):
+        consph.Simulation.from_dict(scene)
+    scene = tank_scene()
+    scene["fluids"][0]["name"] = "water\ud800"
+    with pytest.raises(consph.SceneError, match=r"^scene\.fluids\[0\]\.name: the string is not valid Unicode"):
+        consph.Simulation.from_dict(scene)
+    scene = tank_scene()
+    scene["\udcff"] = 1
+    with pytest.raises(consph.SceneError, match=r"not valid Unicode"):
+        consph.Simulation.from_dict(scene)
+    with pytest.raises(consph.SceneError, match=r"^simulation\.stopAt: the integer"):
+        consph.Simulation.from_dict(tank_scene(), overrides={"simulation.stopAt": 10 ** 30})
+
