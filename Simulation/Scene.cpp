@@ -233,8 +233,8 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   SceneDescription s;
   s.raw = scene;
   s.baseDir = baseDir;
-  Params top(scene, "", {}, log, {"name", "description", "simulation", "fluids", "boundaries", "output"});
-  (void)top;
+  Params top(scene, "", {{"name", ParamType::String, "", "name of the scene (the summary's \"scene\")"}}, log,
+             {"description", "simulation", "fluids", "boundaries", "output"});
 
   // simulation
   const json& sim = child(scene, "simulation");

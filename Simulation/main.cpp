@@ -1,6 +1,8 @@
 // The consph command line: run a scene, list plugins.
 #include <omp.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -11,6 +13,7 @@
 #include "Simulation/Simulation.h"
 #include "Utilities/Error.h"
 #include "Utilities/Progress.h"
+#include "Utilities/ThreadCount.h"
 #include "Utilities/VtkWriter.h"
 
 using namespace consph;
@@ -65,7 +68,7 @@ struct Options {
   double stopAt = -1, fps = -1;
   std::string outputDir, summaryJson;
   bool noOutput = false, quiet = false, listPlugins = false, listJson = false;
-  int threads = 0;
+  long long threads = 0;
   std::vector<std::pair<std::string, std::string>> overrides;
 };
 
@@ -79,10 +82,11 @@ Options parseArgs(int argc, char** argv) {
     try {
       std::size_t used = 0;
       const double x = std::stod(v, &used);
-      if (used != v.size()) throw std::invalid_argument(v);
+      // stod reads "nan" and "inf": neither is a time, a rate or a count.
+      if (used != v.size() || !std::isfinite(x)) throw std::invalid_argument(v);
       return x;
     } catch (...) {
-      throw InputError(flag + ": expected a number, got '" + v + "'");
+      throw InputError(flag + ": expected a finite number, got '" + v + "'");
     }
   };
   for (int i = 1; i < argc; ++i) {
@@ -98,15 +102,16 @@ Options parseArgs(int argc, char** argv) {
     else if (a == "--json") o.listJson = true;
     else if (a == "--stop-at") {
       o.stopAt = number(a, need(i, "--stop-at"));
-      if (o.stopAt < 0) throw InputError("--stop-at: must be >= 0");
+      // The scene's simulation.stopAt range.
+      if (o.stopAt < 0 || o.stopAt > 1e9) throw InputError("--stop-at: must be in [0, 1e9] s");
     } else if (a == "--output-dir") o.outputDir = need(i, "--output-dir");
     else if (a == "--fps") {
       o.fps = number(a, need(i, "--fps"));
       if (o.fps <= 0) throw InputError("--fps: must be > 0");
     } else if (a == "--threads") {
       const double t = number(a, need(i, "--threads"));
-      if (t < 1 || t != int(t)) throw InputError("--threads: expected a positive integer");
-      o.threads = int(t);
+      if (t < 1 || t != std::floor(t)) throw InputError("--threads: expected a positive integer");
+      o.threads = (long long)std::min(t, 1e12);
     } else if (a == "--set") {
       const std::string kv = need(i, "--set");
       const auto eq = kv.find('=');
@@ -132,7 +137,11 @@ int main(int argc, char** argv) {
       else std::fputs(builtinPlugins().describe().c_str(), stdout);
       return 0;
     }
-    if (o.threads > 0) omp_set_num_threads(o.threads);
+    if (o.threads > 0) {
+      std::string warning;
+      omp_set_num_threads(clampThreadCount(o.threads, warning));
+      if (!warning.empty()) std::fprintf(stderr, "consph: warning: --threads: %s\n", warning.c_str());
+    }
     if (o.scene.empty()) o.scene = defaultScene();
     LogSink log = stderrLogSink(o.quiet);
     // Output options are scene overrides, so the simulation never touches the scene's own

@@ -2,9 +2,11 @@
 
 #include <omp.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "Utilities/Progress.h"
+#include "Utilities/ThreadCount.h"
 #include "Utilities/Timer.h"
 #include "pysph_bindings/FieldViews.h"
 #include "pysph_bindings/JsonConversion.h"
@@ -233,6 +235,8 @@ output: None (the scene's "output"), False (write no frames) or a directory for 
           "run",
           [](PySimulation& s, const py::object& until, py::object progress) {
             const Real end = until.is_none() ? s.simulation().scene().stopAt : until.cast<Real>();
+            // NaN would never be reached and inf never ends: the CLI's --stop-at refuses both too.
+            if (!std::isfinite(end)) throw py::value_error("run: until must be a finite time, got " + std::to_string(end));
             s.run(end, std::move(progress));
           },
           py::arg("until") = py::none(), py::arg("progress") = false,
@@ -305,7 +309,7 @@ output: None (the scene's "output"), False (write no frames) or a directory for 
           "output_fps", [](PySimulation& s) { return s.simulation().scene().output.fps; },
           [](PySimulation& s, Real fps) {
             s.requireIdle();
-            if (!(fps > 0)) throw py::value_error("output_fps: must be > 0");
+            if (!(fps > 0) || !std::isfinite(fps)) throw py::value_error("output_fps: must be finite and > 0");
             s.simulation().setOutputFps(fps);
           })
       .def("__repr__", [](PySimulation& s) {
@@ -315,10 +319,14 @@ output: None (the scene's "output"), False (write no frames) or a directory for 
                std::to_string(sim.stepCount()) + " steps>";
       });
 
-  m.def("set_num_threads", [](int n) {
+  m.def("set_num_threads", [](long long n) {
     if (n < 1) throw py::value_error("set_num_threads: expected n >= 1");
-    omp_set_num_threads(n);
-  }, py::arg("n"), "OpenMP threads used by steps started from this Python thread.");
+    std::string warning;
+    omp_set_num_threads(clampThreadCount(n, warning));
+    if (!warning.empty() &&
+        PyErr_WarnEx(py::module_::import("consph._consph").attr("ConsphWarning").ptr(), ("set_num_threads: " + warning).c_str(), 1) < 0)
+      throw py::error_already_set();  // warnings-as-errors
+  }, py::arg("n"), "OpenMP threads used by steps started from this Python thread (at most 4x the hardware threads, 1024).");
   m.def("get_num_threads", [] { return omp_get_max_threads(); });
 }
 

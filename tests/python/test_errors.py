@@ -98,3 +98,16 @@ def test_unconvertible_scene_values_raise_scene_error_with_the_path():
     with pytest.raises(consph.SceneError, match=r"^simulation\.stopAt: the integer"):
         consph.Simulation.from_dict(tank_scene(), overrides={"simulation.stopAt": 10 ** 30})
 
+
+def test_thread_counts_are_clamped_and_end_times_finite(tank):
+    try:
+        with pytest.warns(consph.ConsphWarning, match="set_num_threads: 100000 threads clamped to"):
+            consph.set_num_threads(100000)
+        assert consph.get_num_threads() <= 1024
+    finally:
+        consph.set_num_threads(int(os.environ["OMP_NUM_THREADS"]))
+    for bad in (float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="until must be a finite time"):
+            tank.run(until=bad)
+    with pytest.raises(ValueError, match="output_fps: must be finite"):
+        tank.output_fps = float("inf")
