@@ -172,6 +172,8 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
   parseBodyMotion(b, p, o, log);
   const Vector3r translation = p.vector3("translation"), scale = p.vector3("scale"), axis = p.vector3("rotationAxis");
   const Real angle = p.real("rotationAngle");
+  if (scale.cwiseAbs().minCoeff() == 0) throw InputError(p.pathOf("scale") + ": must not be 0 on any axis (the object would be flat)");
+  if (angle != 0 && axis.norm() == 0) throw InputError(p.pathOf("rotationAxis") + ": must not be the zero vector when rotationAngle is not 0");
   if (hasBox) {
     Params box(b["box"], at(path, "box"),
                {{"min", ParamType::Vector3, json(), "lower corner, m"}, {"max", ParamType::Vector3, json(), "upper corner, m"}},
@@ -190,6 +192,13 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
       for (auto& t : o.mesh.triangles) std::swap(t[1], t[2]);
   }
   transformMesh(o.mesh, scale, axis, angle, translation);
+  // Finite inputs can still overflow (a scale of 1e308 on a 2 m mesh), and a box of inf extent
+  // would make every grid built over it loop.
+  Vector3r lo, hi;
+  o.mesh.boundingBox(lo, hi);
+  const bool finite = std::all_of(o.mesh.vertices.begin(), o.mesh.vertices.end(), [](const Vector3r& v) { return v.allFinite(); });
+  if (!finite || !(hi - lo).allFinite())
+    throw InputError(path + ": the transformed object (scale, rotation, translation) has coordinates beyond the range of a number");
   return o;
 }
 
@@ -288,6 +297,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
     s.hasDomain = true;
     s.domainMin = dp.vector3("min");
     s.domainMax = dp.vector3("max");
+    if ((s.domainMax - s.domainMin).minCoeff() <= 0) throw InputError("simulation.domain: max must exceed min on every axis");
   }
 
   // fluids

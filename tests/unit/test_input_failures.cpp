@@ -30,6 +30,9 @@ void expectRefused(const test::CommandResult& r, const std::string& text) {
   EXPECT_NE(r.output.find(text), std::string::npos) << r.output;
 }
 
+const char* kCube =
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+    "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
 }  // namespace
 
 TEST(InputFailures, NonFiniteTimesAndRatesAreRefused) {
@@ -78,4 +81,35 @@ TEST(InputFailures, DeepJsonIsAnErrorNotACrash) {
   const auto r = runScene(dir, scene, "");
   expectRefused(r, dir + "/scene.json:1:");
   EXPECT_NE(r.output.find("JSON nested deeper than 200 levels"), std::string::npos) << r.output;
+}
+
+TEST(InputFailures, NonFiniteMeshVertexIsRefusedForBothBoundaryModels) {
+  const std::string dir = tempDir("consph_input_mesh");
+  for (const char* bad : {"inf", "nan", "1e999"}) {
+    std::string obj = kCube;
+    obj.replace(obj.find("v 1 1 1"), 7, std::string("v 1 ") + bad + " 1");
+    std::ofstream(dir + "/bad.obj") << obj;
+    json scene = tinyScene();
+    scene["boundaries"].push_back({{"mesh", "bad.obj"}, {"translation", {2, 2, 2}}});
+    for (const char* model : {"Akinci2012", "VolumeMap"}) {
+      scene["simulation"]["boundaryModel"] = model;
+      expectRefused(runScene(dir, scene.dump(), ""), "mesh file '" + dir + "/bad.obj': vertex 7 is not finite");
+    }
+  }
+}
+
+TEST(InputFailures, DegenerateOrOverflowingTransformsAreRefused) {
+  const std::string dir = tempDir("consph_input_transform");
+  std::ofstream(dir + "/cube.obj") << kCube;
+  json scene = tinyScene();
+  scene["boundaries"].push_back({{"mesh", "cube.obj"}, {"scale", {-1e308, 0, 0}}});
+  expectRefused(runScene(dir, scene.dump(), ""), "boundaries[1].scale: must not be 0 on any axis");
+  scene["boundaries"][1]["scale"] = {1e308, 1e308, 1e308};
+  scene["boundaries"][1]["translation"] = {1e308, 0, 0};  // 1e308 + 1e308 = inf
+  expectRefused(runScene(dir, scene.dump(), ""), "boundaries[1]: the transformed object (scale, rotation, translation) has coordinates beyond");
+  scene["boundaries"][1] = {{"box", {{"min", {0, 0, 0}}, {"max", {1, 1, 1}}}}, {"rotationAngle", 1}, {"rotationAxis", {0, 0, 0}}};
+  expectRefused(runScene(dir, scene.dump(), ""), "boundaries[1].rotationAxis: must not be the zero vector");
+  scene = tinyScene();
+  scene["simulation"]["domain"] = {{"min", {0, 0, 0}}, {"max", {0, 1, 1}}};
+  expectRefused(runScene(dir, scene.dump(), ""), "simulation.domain: max must exceed min");
 }
