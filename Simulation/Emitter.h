@@ -28,11 +28,18 @@ class Emitter {
   // Particles this emitter can emit until min(end, stopAt): its budget.
   std::size_t capacity() const { return layerPoints_.size() * maxLayers_; }
   std::size_t particlesPerLayer() const { return layerPoints_.size(); }
+  // An upper bound of capacity() computed in floating point without building the emitter (the
+  // nozzle's bounding square per layer), for the up-front resource estimate.
+  static double estimateCapacity(const EmitterDescription& description, Real spacing, Real stopAt);
   // Emits the layers due in [time, time + dt): appends particles with ids from nextId on.
   // Returns how many it emitted.
   std::size_t emit(FluidModel& fluid, Real time, Real dt, Index& nextId);
 
  private:
+  // Lattice points across an extent, and layers emitted until min(end, stopAt), in floating point.
+  static double pointsAcross(Real extent, Real spacing);
+  static double layersUntil(const EmitterDescription& d, Real spacing, Real stopAt);
+
   EmitterDescription d_;
   Real spacing_;
   std::vector<Vector3r> layerPoints_;  // world positions of one layer at the nozzle

@@ -258,6 +258,9 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
              {"stopAt", ParamType::Real, 1.0, "simulated end time, s", 0, 1e9},
              {"particleSpacing", ParamType::Real, 1.8566, "lattice spacing of fluid blocks in particle radii r (particle volume = spacing^3); the default gives SPlisHSPlasH's volume 0.8 (2r)^3", 1.2, 3},
              {"sortInterval", ParamType::Int, 50, "re-sort particles in Z-order every this many steps (0: never)", 0, 1e9},
+             {"maxParticles", ParamType::Real, 0.0,
+              "refuse a scene whose estimated memory exceeds this many fluid particles' (2 KB each; boundary samples and "
+              "volume-map cells count by their size); 0: half this machine's memory", 0, 1e15},
              {"iterationCapSteps", ParamType::Int, 100, "stop when the pressure solver hits its iteration cap this many steps in a row", 1, 1e9},
              {"boundaryPressure", ParamType::String, "consistent", "boundary neighbours in the pressure solve",
               -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
@@ -274,6 +277,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   s.particleSpacing = sp.real("particleSpacing");
   s.sortInterval = sp.integer("sortInterval");
   s.iterationCapSteps = sp.integer("iterationCapSteps");
+  s.maxParticles = sp.real("maxParticles");
   const std::string bp = sp.string("boundaryPressure");
   s.boundaryPressure = bp == "mirroring" ? BoundaryPressure::Mirroring
                        : bp == "extrapolation" ? BoundaryPressure::Extrapolation

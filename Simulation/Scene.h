@@ -43,7 +43,8 @@ struct SceneDescription {
   Real stopAt = 1;
   Real particleSpacing = Real(1.8566);  // lattice spacing of fluid blocks, in particle radii (0.8^(1/3) 2)
   int sortInterval = 50;
-  int iterationCapSteps = 100;  // stop when the solver hit its cap this many steps in a row
+  int iterationCapSteps = 100;
+  double maxParticles = 0;  // refuse scenes estimated above this many fluid particles' memory (0: half the machine's)  // stop when the solver hit its cap this many steps in a row
   BoundaryPressure boundaryPressure = BoundaryPressure::Consistent;
   json pressureSolver;  // {"type": ..., params}
   json boundaryModel;   // {"type": ..., params}

@@ -16,14 +16,16 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
     : scene_(std::move(scene)), plugins_(plugins), log_(std::move(log)), kernel_(4 * scene_.particleRadius) {
   const FluidDescription& fd = scene_.fluids.at(0);
   fluid_ = std::make_unique<FluidModel>(fd.name, fd.density0);
-  for (const EmitterDescription& e : fd.emitters) emitters_.emplace_back(e, scene_.particleSpacing * scene_.particleRadius, scene_.stopAt);
-  initializeFluid();
-  dropParticlesInsideBodies();
-
   const PluginContext context{fluid_.get(), scene_.particleRadius, kernel_.supportRadius(), log_,
                               scene_.particleSpacing * scene_.particleRadius};
   boundaryModel_ = plugins_.boundaryModels.create(scene_.boundaryModel["type"].get<std::string>(), scene_.boundaryModel,
                                                   "simulation.boundaryModel", context, log_);
+  // Before anything is allocated: refuse what cannot fit, with the estimate.
+  refuseIfTooLarge(estimateResources(), scene_.maxParticles);
+  for (const EmitterDescription& e : fd.emitters) emitters_.emplace_back(e, scene_.particleSpacing * scene_.particleRadius, scene_.stopAt);
+  initializeFluid();
+  dropParticlesInsideBodies();
+
   boundaryModel_->initialize(scene_.boundaries, *fluid_, kernel_);
   if (boundaryModel_->implicit() && scene_.boundaryPressure == BoundaryPressure::Extrapolation)
     log_(LogLevel::Warning, "simulation.boundaryPressure: \"extrapolation\" with " + scene_.boundaryModel["type"].get<std::string>() +
@@ -71,6 +73,18 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
 
 Simulation::~Simulation() = default;
 
+ResourceEstimate Simulation::estimateResources() const {
+  ResourceEstimate e;
+  const Real d = scene_.particleSpacing * scene_.particleRadius;
+  for (const FluidBlock& b : scene_.fluids[0].blocks) {
+    const auto n = latticeCounts(b, d);
+    e.fluidParticles += n[0] * n[1] * n[2];
+  }
+  for (const EmitterDescription& em : scene_.fluids[0].emitters) e.fluidParticles += Emitter::estimateCapacity(em, d, scene_.stopAt);
+  e.boundary = boundaryModel_->estimate(scene_.boundaries, kernel_);
+  return e;
+}
+
 void Simulation::initializeFluid() {
   // Blocks are filled on a cubic lattice of spacing d = particleSpacing r, one particle per cell
   // of volume d^3. The default d = 0.8^(1/3) 2r gives SPlisHSPlasH's particle volume 0.8 (2r)^3
@@ -80,8 +94,9 @@ void Simulation::initializeFluid() {
   const Real r = scene_.particleRadius, d = scene_.particleSpacing * r;
   std::vector<Vector3r> x, v;
   for (const FluidBlock& b : scene_.fluids[0].blocks) {
-    int n[3];
-    for (int a = 0; a < 3; ++a) n[a] = std::max(1, int(std::floor((b.max[a] - b.min[a]) / d + Real(1e-4))));
+    // Counted in floating point; refuseIfTooLarge has bounded their product by 2^32.
+    const auto count = latticeCounts(b, d);
+    const int n[3] = {int(count[0]), int(count[1]), int(count[2])};
     for (int i = 0; i < n[0]; ++i)
       for (int j = 0; j < n[1]; ++j)
         for (int k = 0; k < n[2]; ++k) {

@@ -9,6 +9,7 @@
 #include "Boundary/RigidBodySystem.h"
 #include "Simulation/Emitter.h"
 #include "Simulation/PluginRegistry.h"
+#include "Simulation/ResourceEstimate.h"
 #include "Simulation/Scene.h"
 #include "Utilities/Log.h"
 
@@ -84,6 +85,7 @@ class Simulation {
   bool hasDomain() const { return hasDomain_; }
 
  private:
+  ResourceEstimate estimateResources() const;
   void initializeFluid();
   void dropParticlesInsideBodies();
   void emitParticles();

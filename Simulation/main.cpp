@@ -28,7 +28,9 @@ const char* kUsage =
     "  --output-dir D         write frames to D (default: the scene's output.directory)\n"
     "  --fps N                frames per simulated second\n"
     "  --no-output            write no frames\n"
-    "  --threads N            OpenMP threads (default: all cores)\n"
+    "  --threads N            OpenMP threads (default: all cores; at most 4x the hardware threads, 1024)\n"
+    "  --max-particles N      refuse scenes estimated above N fluid particles' memory (default: half this machine's memory,\n"
+    "                         2 KB per particle; the scene key simulation.maxParticles)\n"
     "  --set KEY.PATH=VALUE   override a scene value, e.g. --set simulation.pressureSolver.maxError=0.01\n"
     "  --summary-json FILE    write the run's summary as JSON\n"
     "  --quiet                no progress, no summary table (warnings and errors still show)\n";
@@ -65,7 +67,7 @@ void printSummary(const json& s) {
 
 struct Options {
   std::string scene;
-  double stopAt = -1, fps = -1;
+  double stopAt = -1, fps = -1, maxParticles = -1;
   std::string outputDir, summaryJson;
   bool noOutput = false, quiet = false, listPlugins = false, listJson = false;
   long long threads = 0;
@@ -112,6 +114,9 @@ Options parseArgs(int argc, char** argv) {
       const double t = number(a, need(i, "--threads"));
       if (t < 1 || t != std::floor(t)) throw InputError("--threads: expected a positive integer");
       o.threads = (long long)std::min(t, 1e12);
+    } else if (a == "--max-particles") {
+      o.maxParticles = number(a, need(i, "--max-particles"));
+      if (o.maxParticles < 1) throw InputError("--max-particles: must be >= 1");
     } else if (a == "--set") {
       const std::string kv = need(i, "--set");
       const auto eq = kv.find('=');
@@ -149,6 +154,7 @@ int main(int argc, char** argv) {
     if (o.noOutput) o.overrides.emplace_back("output.enabled", "false");
     if (!o.outputDir.empty()) o.overrides.emplace_back("output.directory", json(o.outputDir).dump());
     if (o.fps > 0) o.overrides.emplace_back("output.fps", json(o.fps).dump());
+    if (o.maxParticles > 0) o.overrides.emplace_back("simulation.maxParticles", json(o.maxParticles).dump());
     auto sim = loadSimulation(o.scene, o.overrides, log);
 
     const double stopAt = o.stopAt >= 0 ? o.stopAt : double(sim->scene().stopAt);

@@ -49,6 +49,16 @@ inline json tinyTankScene(double stopAt) {
   return scene;
 }
 
+// The InputError message building `scene` gives, or "(no error)".
+inline std::string sceneErrorOf(const json& scene) {
+  try {
+    simulationFromJson(scene);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
 inline std::string dataPath(const std::string& relative) { return std::string(CONSPH_TEST_DATA_DIR) + "/" + relative; }
 
 // The largest particle density, kg/m^3.

@@ -113,3 +113,17 @@ TEST(InputFailures, DegenerateOrOverflowingTransformsAreRefused) {
   scene["simulation"]["domain"] = {{"min", {0, 0, 0}}, {"max", {0, 1, 1}}};
   expectRefused(runScene(dir, scene.dump(), ""), "simulation.domain: max must exceed min");
 }
+
+TEST(InputFailures, OversizedScenesAreRefusedUpFrontAndMaxParticlesSetsTheLimit) {
+  const std::string dir = tempDir("consph_input_size");
+  json scene = tinyScene();
+  scene["fluids"][0]["blocks"][0]["max"] = {1e12, 0.5, 0.5};
+  expectRefused(runScene(dir, scene.dump(), ""), "more than a 32-bit index holds");
+  scene = tinyScene();
+  scene["fluids"][0]["blocks"][0]["max"] = {100, 100, 10};  // ~1e9 particles
+  const auto r = runScene(dir, scene.dump(), "");
+  expectRefused(r, "raise it with --max-particles N or simulation.maxParticles");
+  EXPECT_NE(r.output.find("half this machine's memory"), std::string::npos) << r.output;
+  expectRefused(runScene(dir, tinyScene().dump(), "--max-particles 100"), "more than the limit of 100 particles");
+  EXPECT_EQ(runScene(dir, tinyScene().dump(), "--max-particles 10000").status, 0);
+}

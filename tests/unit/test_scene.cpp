@@ -20,14 +20,7 @@ json minimalScene() {
   })");
 }
 
-std::string errorOf(const json& scene) {
-  try {
-    test::simulationFromJson(scene);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+std::string errorOf(const json& scene) { return test::sceneErrorOf(scene); }
 
 std::string writeTemp(const std::string& name, const std::string& text) {
   const auto path = std::filesystem::temp_directory_path() / name;
