@@ -1,6 +1,7 @@
 #include "Simulation/Emitter.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 namespace consph {
@@ -39,6 +40,8 @@ Emitter::Emitter(const EmitterDescription& d, Real spacing, Real stopAt) : d_(d)
   maxLayers_ = std::size_t(layersUntil(d_, spacing_, stopAt));
   pending_ = spacing_;  // the first layer leaves at `start`
 }
+
+void Emitter::extendTo(Real endTime) { maxLayers_ = std::max(maxLayers_, std::size_t(layersUntil(d_, spacing_, endTime))); }
 
 std::size_t Emitter::emit(FluidModel& fluid, Real time, Real dt, Index& nextId) {
   if (time + dt <= d_.start || time >= d_.end) return 0;

@@ -21,8 +21,9 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
   boundaryModel_ = plugins_.boundaryModels.create(scene_.boundaryModel["type"].get<std::string>(), scene_.boundaryModel,
                                                   "simulation.boundaryModel", context, log_);
   // Before anything is allocated: refuse what cannot fit, with the estimate.
-  refuseIfTooLarge(estimateResources(), scene_.maxParticles);
-  for (const EmitterDescription& e : fd.emitters) emitters_.emplace_back(e, scene_.particleSpacing * scene_.particleRadius, scene_.stopAt);
+  refuseIfTooLarge(estimateResources(scene_.stopAt), scene_.maxParticles);
+  emittersEndTime_ = scene_.stopAt;
+  for (const EmitterDescription& e : fd.emitters) emitters_.emplace_back(e, scene_.particleSpacing * scene_.particleRadius, emittersEndTime_);
   initializeFluid();
   dropParticlesInsideBodies();
 
@@ -73,14 +74,14 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
 
 Simulation::~Simulation() = default;
 
-ResourceEstimate Simulation::estimateResources() const {
+ResourceEstimate Simulation::estimateResources(Real endTime) const {
   ResourceEstimate e;
   const Real d = scene_.particleSpacing * scene_.particleRadius;
   for (const FluidBlock& b : scene_.fluids[0].blocks) {
     const auto n = latticeCounts(b, d);
     e.fluidParticles += n[0] * n[1] * n[2];
   }
-  for (const EmitterDescription& em : scene_.fluids[0].emitters) e.fluidParticles += Emitter::estimateCapacity(em, d, scene_.stopAt);
+  for (const EmitterDescription& em : scene_.fluids[0].emitters) e.fluidParticles += Emitter::estimateCapacity(em, d, endTime);
   e.boundary = boundaryModel_->estimate(scene_.boundaries, kernel_);
   return e;
 }
@@ -261,7 +262,20 @@ void Simulation::step() {
   }
 }
 
+void Simulation::extendRunTo(Real until) {
+  if (emitters_.empty() || !(until > emittersEndTime_)) return;
+  refuseIfTooLarge(estimateResources(until), scene_.maxParticles);
+  emittersEndTime_ = until;
+  std::size_t budget = fluid_->size();
+  for (Emitter& e : emitters_) {
+    e.extendTo(until);
+    budget += e.remaining();
+  }
+  fluid_->fields().reserve(std::max(budget, fluid_->fields().capacity()));
+}
+
 void Simulation::run(Real until, const std::function<void(const Simulation&)>& progress) {
+  extendRunTo(until);
   while (!reached(until)) {
     step();
     if (progress) progress(*this);

@@ -45,7 +45,13 @@ class Simulation {
   // non-pressure forces, time step, pressure solve, rigid-body coupling, integration, particle
   // removal, checks, export.
   void step();
-  // Steps until `until` (simulated seconds); `progress` is called after every step.
+  // Makes the emitters' budgets (and the reserved particle storage) cover a run until `until`
+  // when that is past the end time they cover (at first the scene's stopAt): `--stop-at` and
+  // Python's run(until=...) past stopAt must not cut a jet short. Growing the storage may move
+  // the fields' data (NumPy views taken before become stale; Python raises StaleViewError at
+  // once). Refuses (InputError) a budget past the resource limit, like the scene's own.
+  void extendRunTo(Real until);
+  // Steps until `until` (simulated seconds), extendRunTo(until) first; `progress` is called after every step.
   void run(Real until, const std::function<void(const Simulation&)>& progress = {});
   // Whether run(until) would stop now: half a minimum step early, so no sliver of a step is left.
   bool reached(Real until) const { return time_ >= until - Real(0.5) * scene_.minTimeStep; }
@@ -85,7 +91,7 @@ class Simulation {
   bool hasDomain() const { return hasDomain_; }
 
  private:
-  ResourceEstimate estimateResources() const;
+  ResourceEstimate estimateResources(Real endTime) const;
   void initializeFluid();
   void dropParticlesInsideBodies();
   void emitParticles();
@@ -116,6 +122,7 @@ class Simulation {
   std::vector<Vector3r> pairImpulses_;  // per fluid-boundary pair, this step (two-way coupling)
   std::vector<Emitter> emitters_;
   Index nextId_ = 0;                    // id of the next emitted particle
+  Real emittersEndTime_ = 0;            // the end time the emitters' budgets and the storage cover
 
   Real time_ = 0, dt_ = 0, dtPrevious_ = 0;
   bool hasDomain_ = false;

@@ -148,6 +148,11 @@ void PySimulation::run(Real until, py::object progress) {
   if (!progress.is_none() && !py::isinstance<py::bool_>(progress) && !PyCallable_Check(progress.ptr()))
     throw py::type_error("run(progress=...): expected a bool or a callable(simulation)");
   const py::object perStep = progress.is_none() || py::isinstance<py::bool_>(progress) ? py::none() : progress;
+  // Emitters' budgets cover the run until `until`; if that grew the storage, views taken before
+  // point to freed memory: StaleViewError now, before any step (the next run() goes on).
+  requireIdle();
+  simulation_->extendRunTo(until);
+  checkViews(true);
   Progress display(double(until), bar);
   advance([&] { return simulation_->reached(until); }, perStep, bar ? &display : nullptr);
   if (bar) display.finish(double(simulation_->time()), simulation_->stepCount());
