@@ -90,6 +90,43 @@ void expectObject(const json& v, const std::string& path) {
   if (!v.is_object()) throw InputError(path + ": expected an object");
 }
 
+// Valid UTF-8 without control characters (0x00-0x1f, 0x7f); overlong forms and surrogates are
+// invalid.
+bool printableUtf8(const std::string& s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c < 0x20 || c == 0x7f) return false;
+    if (c < 0x80) {
+      ++i;
+      continue;
+    }
+    // Lead byte: 2, 3 or 4 bytes in all (0xc0, 0xc1 and above 0xf4 never start a valid sequence).
+    const int extra = c >= 0xc2 && c <= 0xdf ? 1 : c >= 0xe0 && c <= 0xef ? 2 : c >= 0xf0 && c <= 0xf4 ? 3 : -1;
+    if (extra < 0 || i + std::size_t(extra) >= s.size()) return false;  // bad lead byte, or truncated
+    std::uint32_t cp = c & (0x3fu >> extra);
+    for (int k = 1; k <= extra; ++k) {
+      const unsigned char cc = static_cast<unsigned char>(s[i + std::size_t(k)]);
+      if ((cc & 0xc0) != 0x80) return false;
+      cp = (cp << 6) | (cc & 0x3f);
+    }
+    if ((extra == 2 && cp < 0x800) || (extra == 3 && (cp < 0x10000 || cp > 0x10ffff)) || (cp >= 0xd800 && cp <= 0xdfff))
+      return false;
+    i += std::size_t(extra) + 1;
+  }
+  return true;
+}
+
+// A fluid's name becomes file names (NAME_00001.vtu, NAME.pvd) and XML attributes in the .pvd:
+// nothing that leaves the output folder, hides the file or breaks the XML.
+void checkFileName(const std::string& name, const std::string& path) {
+  if (name.empty()) throw InputError(path + ": must not be empty (it names the output files)");
+  if (!printableUtf8(name)) throw InputError(path + ": must be printable UTF-8 text (it names the output files)");
+  if (name.find_first_of("/\\") != std::string::npos || name.find("..") != std::string::npos || name[0] == '.')
+    throw InputError(path + ": '" + name + "' must not contain '/', '\\' or '..' or start with '.' (it names the output files)");
+  if (name.find_first_of("<>&\"'") != std::string::npos)
+    throw InputError(path + ": '" + name + "' must not contain < > & \" or ' (it is written into the .pvd's XML)");
+}
+
 std::string resolvePath(const std::string& baseDir, const std::string& file) {
   std::filesystem::path p(file);
   if (p.is_relative()) p = std::filesystem::path(baseDir) / p;
@@ -317,6 +354,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
               log, {"forces", "blocks", "emitters", "removeOutside"});
     FluidDescription fd;
     fd.name = fp.string("name");
+    checkFileName(fd.name, fp.pathOf("name"));
     fd.density0 = fp.real("density0");
     fd.path = path;
     fd.forces = child(fluids[f], "forces");

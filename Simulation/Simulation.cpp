@@ -274,9 +274,9 @@ void Simulation::extendRunTo(Real until) {
   fluid_->fields().reserve(std::max(budget, fluid_->fields().capacity()));
 }
 
-void Simulation::run(Real until, const std::function<void(const Simulation&)>& progress) {
+void Simulation::run(Real until, const std::function<void(const Simulation&)>& progress, const std::function<bool()>& stop) {
   extendRunTo(until);
-  while (!reached(until)) {
+  while (!reached(until) && !(stop && stop())) {
     step();
     if (progress) progress(*this);
   }

@@ -51,8 +51,9 @@ class Simulation {
   // the fields' data (NumPy views taken before become stale; Python raises StaleViewError at
   // once). Refuses (InputError) a budget past the resource limit, like the scene's own.
   void extendRunTo(Real until);
-  // Steps until `until` (simulated seconds), extendRunTo(until) first; `progress` is called after every step.
-  void run(Real until, const std::function<void(const Simulation&)>& progress = {});
+  // Steps until `until` (simulated seconds), extendRunTo(until) first; `progress` is called after
+  // every step; `stop` (optional) is asked after every step and ends the run early when true.
+  void run(Real until, const std::function<void(const Simulation&)>& progress = {}, const std::function<bool()>& stop = {});
   // Whether run(until) would stop now: half a minimum step early, so no sliver of a step is left.
   bool reached(Real until) const { return time_ >= until - Real(0.5) * scene_.minTimeStep; }
 

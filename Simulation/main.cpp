@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -32,7 +33,7 @@ const char* kUsage =
     "  --max-particles N      refuse scenes estimated above N fluid particles' memory (default: half this machine's memory,\n"
     "                         2 KB per particle; the scene key simulation.maxParticles)\n"
     "  --set KEY.PATH=VALUE   override a scene value, e.g. --set simulation.pressureSolver.maxError=0.01\n"
-    "  --summary-json FILE    write the run's summary as JSON\n"
+    "  --summary-json FILE    write the run's summary as JSON (-: standard output, the table then goes to stderr)\n"
     "  --quiet                no progress, no summary table (warnings and errors still show)\n";
 
 std::string defaultScene() {
@@ -41,28 +42,38 @@ std::string defaultScene() {
   return "data/scenes/DamBreak.json";
 }
 
-void printSummary(const json& s) {
+void printSummary(const json& s, FILE* out) {
   const auto& p = s["phaseSeconds"];
-  std::printf("\nsummary\n");
-  std::printf("  fluid particles           %zu\n", s["fluidParticles"].get<std::size_t>());
-  std::printf("  boundary particles        %zu\n", s["boundaryParticles"].get<std::size_t>());
-  std::printf("  steps                     %zu\n", s["steps"].get<std::size_t>());
-  std::printf("  simulated time            %.4f s\n", s["simulatedTime"].get<double>());
-  std::printf("  wall time                 %.2f s (%.2f ms/step, %.3f us/particle-step)\n", s["wallSeconds"].get<double>(),
+  std::fprintf(out, "\nsummary\n");
+  std::fprintf(out, "  fluid particles           %zu\n", s["fluidParticles"].get<std::size_t>());
+  std::fprintf(out, "  boundary particles        %zu\n", s["boundaryParticles"].get<std::size_t>());
+  std::fprintf(out, "  steps                     %zu\n", s["steps"].get<std::size_t>());
+  std::fprintf(out, "  simulated time            %.4f s\n", s["simulatedTime"].get<double>());
+  std::fprintf(out, "  wall time                 %.2f s (%.2f ms/step, %.3f us/particle-step)\n", s["wallSeconds"].get<double>(),
               s["msPerStep"].get<double>(), s["usPerParticleStep"].get<double>());
-  std::printf("  threads, precision        %d, %s\n", s["threads"].get<int>(), s["precision"].get<std::string>().c_str());
-  std::printf("  solver, boundary pressure %s, %s\n", s["pressureSolver"].get<std::string>().c_str(),
+  std::fprintf(out, "  threads, precision        %d, %s\n", s["threads"].get<int>(), s["precision"].get<std::string>().c_str());
+  std::fprintf(out, "  solver, boundary pressure %s, %s\n", s["pressureSolver"].get<std::string>().c_str(),
               s["boundaryPressure"].get<std::string>().c_str());
-  std::printf("  iterations per step       %.2f pressure, %.2f divergence\n", s["averagePressureIterations"].get<double>(),
+  std::fprintf(out, "  iterations per step       %.2f pressure, %.2f divergence\n", s["averagePressureIterations"].get<double>(),
               s["averageDivergenceIterations"].get<double>());
-  std::printf("  density error             %.4f %% average, %.4f %% max\n", s["averageDensityErrorPercent"].get<double>(),
+  std::fprintf(out, "  density error             %.4f %% average, %.4f %% max\n", s["averageDensityErrorPercent"].get<double>(),
               s["maxDensityErrorPercent"].get<double>());
-  std::printf("  particles lost            %zu\n", s["particlesLost"].get<std::size_t>());
-  std::printf("  seconds per phase         neighbours %.2f, densities %.2f, divergence %.2f, forces %.2f, pressure %.2f, "
+  std::fprintf(out, "  particles lost            %zu\n", s["particlesLost"].get<std::size_t>());
+  std::fprintf(out, "  seconds per phase         neighbours %.2f, densities %.2f, divergence %.2f, forces %.2f, pressure %.2f, "
               "integration %.2f, export %.2f\n",
               p["neighbourSearch"].get<double>(), p["densities"].get<double>(), p["divergenceSolve"].get<double>(),
               p["nonPressureForces"].get<double>(), p["pressureSolve"].get<double>(), p["integration"].get<double>(),
               p["export"].get<double>());
+}
+
+// The signal that asked the run to stop (SIGINT, SIGTERM), 0 while none did: the CLI's one
+// global, as a signal handler can reach nothing else. A second signal gets the default action,
+// so a run that does not stop can still be killed.
+volatile std::sig_atomic_t g_signal = 0;
+
+void onSignal(int signal) {
+  g_signal = signal;
+  std::signal(signal, SIG_DFL);
 }
 
 struct Options {
@@ -148,6 +159,8 @@ int main(int argc, char** argv) {
       if (!warning.empty()) std::fprintf(stderr, "consph: warning: --threads: %s\n", warning.c_str());
     }
     if (o.scene.empty()) o.scene = defaultScene();
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
     LogSink log = stderrLogSink(o.quiet);
     // Output options are scene overrides, so the simulation never touches the scene's own
     // output folder when another one (or none) is asked for.
@@ -164,21 +177,46 @@ int main(int argc, char** argv) {
                    sim->scene().pressureSolver["type"].get<std::string>().c_str(),
                    sim->scene().output.enabled ? sim->scene().output.directory.c_str() : "(no output)");
     Progress progress(stopAt, !o.quiet);
+    // Every run ends with a record: a blow-up (3), a failed write (5) or a signal (128 + n) stops
+    // the loop at the end of a step, and the summary is still printed and written.
     int status = 0;
-    std::string failure;
+    std::string state = "ok", failure;
     try {
-      sim->run(Real(stopAt), [&](const Simulation& s) { progress.update(s.time(), s.stepCount()); });
+      sim->run(
+          Real(stopAt), [&](const Simulation& s) { progress.update(s.time(), s.stepCount()); },
+          [] { return g_signal != 0; });
+      if (g_signal != 0) {
+        status = 128 + g_signal;
+        state = "interrupted";
+        failure = std::string("interrupted by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM") + " at step " +
+                  std::to_string(sim->stepCount()) + ", t = " + std::to_string(double(sim->time())) + " s";
+      }
     } catch (const SimulationError& e) {
       failure = e.what();
       status = 3;
+      state = "failed";
+    } catch (const OutputError& e) {
+      failure = e.what();
+      status = 5;
+      state = "output failed";
     }
     progress.finish(sim->time(), sim->stepCount());
     json summary = sim->summary();
     summary["scene"] = o.scene;
-    summary["status"] = failure.empty() ? "ok" : "failed";
+    summary["status"] = state;
     if (!failure.empty()) summary["error"] = failure;
-    if (!o.summaryJson.empty()) writeFileAtomically(o.summaryJson, summary.dump(2) + "\n");
-    if (!o.quiet) printSummary(summary);
+    const bool jsonToStdout = o.summaryJson == "-";
+    if (!o.summaryJson.empty()) {
+      try {
+        if (jsonToStdout) std::printf("%s\n", summary.dump(2).c_str());
+        else writeFileAtomically(o.summaryJson, summary.dump(2) + "\n");
+      } catch (const OutputError& e) {
+        std::fprintf(stderr, "consph: error: --summary-json: %s\n", e.what());
+        if (status == 0) status = 5;
+      }
+    }
+    // With the JSON on standard output the table goes to standard error.
+    if (!o.quiet) printSummary(summary, jsonToStdout ? stderr : stdout);
     if (!failure.empty()) std::fprintf(stderr, "consph: error: %s (frames written so far are kept)\n", failure.c_str());
     return status;
   } catch (const InputError& e) {
@@ -187,6 +225,9 @@ int main(int argc, char** argv) {
   } catch (const SimulationError& e) {
     std::fprintf(stderr, "consph: error: %s\n", e.what());
     return 3;
+  } catch (const OutputError& e) {
+    std::fprintf(stderr, "consph: error: %s\n", e.what());
+    return 5;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "consph: internal error: %s\n", e.what());
     return 4;

@@ -111,3 +111,12 @@ def test_thread_counts_are_clamped_and_end_times_finite(tank):
             tank.run(until=bad)
     with pytest.raises(ValueError, match="output_fps: must be finite"):
         tank.output_fps = float("inf")
+
+
+def test_failed_writes_raise_output_error(tank, tmp_path):
+    # Issue 16: a full disk raised SceneError (the bad-input class) and left a .tmp.
+    with pytest.raises(consph.OutputError, match="cannot write '/dev/full'"):
+        tank.export_frame("/dev/full")
+    assert issubclass(consph.OutputError, OSError)
+    with pytest.raises(consph.SceneError, match=r"fluids\[0\]\.name: '\.\./x' must not contain"):
+        consph.Simulation.from_dict(tank_scene(), overrides={"fluids.0.name": "../x"})
