@@ -405,11 +405,13 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   Params op(out, "output",
             {{"enabled", ParamType::Bool, true, "write frames"},
              {"directory", ParamType::String, "output", "output folder (relative to the working directory)"},
-             {"fps", ParamType::Real, 25.0, "frames per simulated second", 1e-3, 1e6}},
+             {"fps", ParamType::Real, 25.0, "frames per simulated second", 1e-3, 1e6},
+             {"overwrite", ParamType::Bool, false, "clear another run's files (frames, .pvd, ...) from the folder instead of refusing it"}},
             log, {});
   s.output.enabled = op.boolean("enabled");
   s.output.directory = op.string("directory");
   s.output.fps = op.real("fps");
+  s.output.overwrite = op.boolean("overwrite");
   return s;
 }
 

@@ -31,6 +31,7 @@ struct OutputSettings {
   bool enabled = true;
   std::string directory = "output";
   Real fps = 25;
+  bool overwrite = false;  // clear another run's files from the folder instead of refusing it
 };
 
 struct SceneDescription {

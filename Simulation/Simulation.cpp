@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "Boundary/MassProperties.h"
+#include "Utilities/OutputFolder.h"
 #include "Utilities/Timer.h"
 #include "Utilities/VtkWriter.h"
 
@@ -384,6 +385,13 @@ void Simulation::checkState() {
 }
 
 void Simulation::setOutputDirectory(const std::string& dir) {
+  // A folder this simulation writes already is its own; any other must hold no other run's files.
+  if (dir != ownedDirectory_) {
+    claimOutputFolder(dir, scene_.output.overwrite);
+    ownedDirectory_ = dir;
+    // The scene as run (after --set and Python overrides) beside the frames.
+    writeFileAtomically((std::filesystem::path(dir) / "scene.resolved.json").string(), scene_.raw.dump(2) + "\n");
+  }
   scene_.output.directory = dir;
   scene_.output.enabled = true;
   writer_ = std::make_unique<VtkSeries>(dir, fluid_->name());

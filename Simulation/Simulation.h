@@ -129,6 +129,7 @@ class Simulation {
   bool hasDomain_ = false;
   Vector3r domainMin_, domainMax_;
   std::size_t nextFrame_ = 0;
+  std::string ownedDirectory_;  // the output folder claimed (claimOutputFolder) by this simulation
   SimulationStats stats_;
 };
 

@@ -29,6 +29,7 @@ const char* kUsage =
     "  --output-dir D         write frames to D (default: the scene's output.directory)\n"
     "  --fps N                frames per simulated second\n"
     "  --no-output            write no frames\n"
+    "  --overwrite            clear another run's frames from the output folder (default: refuse such a folder)\n"
     "  --threads N            OpenMP threads (default: all cores; at most 4x the hardware threads, 1024)\n"
     "  --max-particles N      refuse scenes estimated above N fluid particles' memory (default: half this machine's memory,\n"
     "                         2 KB per particle; the scene key simulation.maxParticles)\n"
@@ -80,7 +81,7 @@ struct Options {
   std::string scene;
   double stopAt = -1, fps = -1, maxParticles = -1;
   std::string outputDir, summaryJson;
-  bool noOutput = false, quiet = false, listPlugins = false, listJson = false;
+  bool noOutput = false, overwrite = false, quiet = false, listPlugins = false, listJson = false;
   long long threads = 0;
   std::vector<std::pair<std::string, std::string>> overrides;
 };
@@ -135,6 +136,7 @@ Options parseArgs(int argc, char** argv) {
       o.overrides.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
     } else if (a == "--summary-json") o.summaryJson = need(i, "--summary-json");
     else if (a == "--no-output") o.noOutput = true;
+    else if (a == "--overwrite") o.overwrite = true;
     else if (a == "--quiet") o.quiet = true;
     else if (!a.empty() && a[0] == '-') throw InputError("unknown option '" + a + "' (see consph --help)");
     else if (o.scene.empty()) o.scene = a;
@@ -165,6 +167,7 @@ int main(int argc, char** argv) {
     // Output options are scene overrides, so the simulation never touches the scene's own
     // output folder when another one (or none) is asked for.
     if (o.noOutput) o.overrides.emplace_back("output.enabled", "false");
+    if (o.overwrite) o.overrides.emplace_back("output.overwrite", "true");
     if (!o.outputDir.empty()) o.overrides.emplace_back("output.directory", json(o.outputDir).dump());
     if (o.fps > 0) o.overrides.emplace_back("output.fps", json(o.fps).dump());
     if (o.maxParticles > 0) o.overrides.emplace_back("simulation.maxParticles", json(o.maxParticles).dump());

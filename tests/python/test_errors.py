@@ -120,3 +120,13 @@ def test_failed_writes_raise_output_error(tank, tmp_path):
     assert issubclass(consph.OutputError, OSError)
     with pytest.raises(consph.SceneError, match=r"fluids\[0\]\.name: '\.\./x' must not contain"):
         consph.Simulation.from_dict(tank_scene(), overrides={"fluids.0.name": "../x"})
+
+
+def test_output_folder_of_another_run_is_refused(tmp_path):
+    first = consph.Simulation.from_dict(tank_scene(), output=tmp_path / "out")
+    first.step(2)
+    first.output_directory = tmp_path / "out"  # its own folder: no check again
+    with pytest.raises(consph.SceneError, match="holds another run's files .*pass --overwrite"):
+        consph.Simulation.from_dict(tank_scene(), output=tmp_path / "out")
+    consph.Simulation.from_dict(tank_scene(), output=tmp_path / "out", overrides={"output.overwrite": True})
+    assert json.loads((tmp_path / "out" / "scene.resolved.json").read_text())["name"] == "TinyTank"

@@ -9,6 +9,7 @@
 
 #include "CliUtil.h"
 #include "TestUtil.h"
+#include "Utilities/OutputFolder.h"
 #include "Utilities/VtkWriter.h"
 
 using namespace consph;
@@ -119,4 +120,34 @@ TEST(RunRecordFailures, FluidNamesCannotLeaveTheOutputFolder) {
   const auto r = runCommand(kCli + " " + dir + "/bad.json --quiet --no-output");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/x"));
+}
+
+TEST(RunRecordFailures, OutputFolderOfAnotherRunIsRefusedUnlessOverwrite) {
+  const std::string dir = tempDir("consph_record_owned");
+  const std::string scene = writeScene(dir, test::tinyTankScene(0.2));
+  const std::string run = kCli + " " + scene + " --quiet --output-dir " + dir + "/out --fps 50";
+  ASSERT_EQ(runCommand(run).status, 0);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/out/water_00010.vtu"));
+  std::ofstream(dir + "/out/notes.txt") << "mine";
+  // A second run into the folder: refused, nothing touched.
+  auto r = runCommand(run + " --stop-at 0.05");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("output folder '" + dir + "/out' holds another run's files (boundary.vtu and "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("pass --overwrite"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/out/water_00010.vtu"));
+  // --overwrite clears consph's files only: no stale frame beside the shorter series.
+  r = runCommand(run + " --stop-at 0.05 --overwrite --set fluids.0.density0=998");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out/water_00010.vtu"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/out/water_00002.vtu"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/out/notes.txt"));
+  // The resolved scene (after --set) beside the frames.
+  EXPECT_EQ(readJsonFile(dir + "/out/scene.resolved.json")["fluids"][0]["density0"], 998);
+}
+
+TEST(RunRecordFailures, RunFilesAreRecognised) {
+  for (const char* f : {"water_00000.vtu", "water.pvd", "boundary.vtu", "bodies.csv", "bodies_00012.vtu", "scene.resolved.json",
+                        "water_00003.vtu.tmp"})
+    EXPECT_TRUE(isRunFile(f)) << f;
+  for (const char* f : {"notes.txt", "water_1.vtu", "summary.json", "mesh.vtu"}) EXPECT_FALSE(isRunFile(f)) << f;
 }
