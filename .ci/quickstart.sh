@@ -4,5 +4,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash .ci/setup.sh
 bash .ci/build.sh
-./build/consph data/scenes/DamBreak.json --output-dir output/DamBreak "$@"
+# --overwrite: running it again replaces the previous run's frames.
+./build/consph data/scenes/DamBreak.json --output-dir output/DamBreak --overwrite "$@"
 echo "frames: output/DamBreak/water.pvd (open in ParaView)"

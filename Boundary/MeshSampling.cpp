@@ -6,6 +6,8 @@
 #include <limits>
 #include <unordered_map>
 
+#include "Simulation/ResourceEstimate.h"
+
 namespace consph {
 
 std::vector<Vector3r> thinPoints(const std::vector<Vector3r>& points, Real minDistance) {
@@ -74,7 +76,7 @@ std::vector<Vector3r> sampleMeshSurface(const TriangleMesh& mesh, Real spacing, 
     const auto& tri = mesh.triangles[t];
     const Vector3r a = mesh.vertices[tri[0]], b = mesh.vertices[tri[1]], c = mesh.vertices[tri[2]];
     const Real longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    const int n = std::max(1, int(std::ceil(longest / spacing)));
+    const int n = std::max(1, checkedCount(std::ceil(double(longest) / double(spacing)), "surface sampling of a triangle"));
     const Vector3r normal = (b - a).cross(c - a).normalized();
     const bool moved = normalOffset != 0 && normal.allFinite();
     const Vector3r dir = moved ? Vector3r((normalOffset > 0 ? 1 : -1) * normal) : Vector3r::Zero();
@@ -138,8 +140,8 @@ void addCreaseSamples(const TriangleMesh& mesh, Real spacing, Real normalOffset,
     if (convex != (normalOffset > 0)) continue;  // the moved faces overlap here, no gap
     const Vector3r a = mesh.vertices[ef.a], b = mesh.vertices[ef.b];
     const Real sign = normalOffset > 0 ? 1 : -1;
-    const int along = std::max(1, int(std::ceil((b - a).norm() / spacing)));
-    const int around = std::max(1, int(std::ceil(angle * radius / spacing)));
+    const int along = std::max(1, checkedCount(std::ceil(double((b - a).norm()) / double(spacing)), "surface sampling of a crease"));
+    const int around = std::max(1, checkedCount(std::ceil(double(angle * radius) / double(spacing)), "surface sampling of a crease"));
     for (int i = 0; i <= along; ++i)
       for (int j = 1; j < around; ++j) {
         const Real w = Real(j) / around;
@@ -154,7 +156,7 @@ void addCreaseSamples(const TriangleMesh& mesh, Real spacing, Real normalOffset,
 std::vector<Vector3r> sampleBoxSurface(const Vector3r& lo, const Vector3r& hi, Real spacing) {
   std::vector<Vector3r> points;
   int n[3];
-  for (int d = 0; d < 3; ++d) n[d] = std::max(1, int(std::ceil((hi[d] - lo[d]) / spacing)));
+  for (int d = 0; d < 3; ++d) n[d] = std::max(1, checkedCount(std::ceil(double(hi[d] - lo[d]) / double(spacing)), "surface sampling of a box"));
   auto at = [&](int d, int i) { return lo[d] + (hi[d] - lo[d]) * Real(i) / n[d]; };
   for (int i = 0; i <= n[0]; ++i)
     for (int j = 0; j <= n[1]; ++j) {

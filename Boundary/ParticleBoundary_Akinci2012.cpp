@@ -96,6 +96,28 @@ Real ParticleBoundary_Akinci2012::restDistance(const CubicSplineKernel& kernel, 
   return consph::restDistance(halfLatticeDensity(kernel, d), h, wallDensity);
 }
 
+BoundaryEstimate ParticleBoundary_Akinci2012::estimate(const std::vector<BoundaryObject>& objects, const CubicSplineKernel&) const {
+  // The lattices sampleBoxSurface and sampleMeshSurface lay before thinning: (n+1)(n+2)/2 points
+  // on a triangle whose longest edge is n spacings (a sliver costs as much as a full triangle).
+  const double s = double(samplingDistance_);
+  BoundaryEstimate e;
+  for (const BoundaryObject& o : objects) {
+    if (o.isBox) {
+      double n[3];
+      for (int a = 0; a < 3; ++a) n[a] = std::max(1.0, std::ceil(double(o.boxMax[a] - o.boxMin[a]) / s)) + 1;
+      e.samples += 2 * (n[0] * n[1] + n[1] * n[2] + n[0] * n[2]);
+      continue;
+    }
+    for (const auto& t : o.mesh.triangles) {
+      const Vector3r &a = o.mesh.vertices[t[0]], &b = o.mesh.vertices[t[1]], &c = o.mesh.vertices[t[2]];
+      const double n = std::max(1.0, std::ceil(double(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()})) / s));
+      e.samples += (n + 1) * (n + 2) / 2;
+    }
+  }
+  e.bytes = e.samples * kBytesPerBoundarySample;
+  return e;
+}
+
 std::vector<Vector3r> ParticleBoundary_Akinci2012::sampleObject(const BoundaryObject& o, Real offset) const {
   return o.isBox ? sampleBoxSurface(offsetBox(o, offset, samplingDistance_, true), offsetBox(o, offset, samplingDistance_, false),
                                     samplingDistance_)

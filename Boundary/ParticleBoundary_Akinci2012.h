@@ -28,6 +28,7 @@ class ParticleBoundary_Akinci2012 final : public BoundaryModel {
  public:
   ParticleBoundary_Akinci2012(const Params& params, Real particleRadius, Real fluidSpacing);
   void initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid, const CubicSplineKernel& kernel) override;
+  BoundaryEstimate estimate(const std::vector<BoundaryObject>& objects, const CubicSplineKernel& kernel) const override;
   void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
   Real layerDepth(std::size_t object) const override { return object < layerDepths_.size() ? layerDepths_[object] : Real(0); }
 

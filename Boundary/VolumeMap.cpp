@@ -8,6 +8,7 @@
 #include "Boundary/MassProperties.h"
 #include "Boundary/MeshSampling.h"
 #include "Boundary/RestLayer.h"
+#include "Simulation/ResourceEstimate.h"
 
 namespace consph {
 
@@ -37,7 +38,8 @@ VolumeMap::VolumeMap(const BoundaryObject& object, const CubicSplineKernel& kern
   // The grid covers every point within the band of the surface.
   const Vector3r margin = Vector3r::Constant(band_ + offset_ + cell_);
   origin_ = lo - margin;
-  for (int a = 0; a < 3; ++a) dims_[a] = int(std::ceil((hi[a] - lo[a] + 2 * margin[a]) / cell_)) + 1;
+  for (int a = 0; a < 3; ++a)
+    dims_[a] = checkedCount(std::ceil(double(hi[a] - lo[a] + 2 * margin[a]) / double(cell_)) + 1, object.path + ": volume map");
   computeDistances(object);
   // The offset moves the surface into the solid, but a thin part (a plate, a baffle) keeps a
   // solid side: at most to one cell short of its mid-plane (its deepest point).

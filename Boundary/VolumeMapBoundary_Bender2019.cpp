@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 
@@ -42,6 +43,23 @@ VolumeMapBoundary_Bender2019::VolumeMapBoundary_Bender2019(const Params& params,
       requestedOffset_(params.real("surfaceOffset") < 0 ? Real(-1) : params.real("surfaceOffset") * particleRadius),
       offsetObjects_(params.string("offsetObjects")),
       log_(log) {}
+
+BoundaryEstimate VolumeMapBoundary_Bender2019::estimate(const std::vector<BoundaryObject>& objects,
+                                                      const CubicSplineKernel& kernel) const {
+  // VolumeMap's grid: the bounding box grown by its band (2h + 3 cells), the largest surface
+  // offset (4r) and a cell, one node per cell corner; a distance and a volume per node.
+  BoundaryEstimate e;
+  const double cell = double(cellSize_), margin = 2 * double(kernel.supportRadius()) + 4 * cell + 4 * double(particleRadius_);
+  for (const BoundaryObject& o : objects) {
+    Vector3r lo, hi;
+    o.mesh.boundingBox(lo, hi);
+    double nodes = 1;
+    for (int a = 0; a < 3; ++a) nodes *= std::ceil((double(hi[a] - lo[a]) + 2 * margin) / cell) + 1;
+    e.cells += nodes;
+    e.bytes += nodes * 2 * sizeof(Real);
+  }
+  return e;
+}
 
 void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid,
                                               const CubicSplineKernel& kernel) {

@@ -36,6 +36,7 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
  public:
   VolumeMapBoundary_Bender2019(const Params& params, Real particleRadius, Real fluidSpacing, const LogSink& log);
   void initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid, const CubicSplineKernel& kernel) override;
+  BoundaryEstimate estimate(const std::vector<BoundaryObject>& objects, const CubicSplineKernel& kernel) const override;
   void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
   bool implicit() const override { return true; }
   void setPose(std::size_t object, const ObjectPose& pose) override { poses_[object] = pose; }

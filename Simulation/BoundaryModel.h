@@ -8,6 +8,7 @@
 #include "Simulation/BoundarySamples.h"
 #include "Simulation/FluidModel.h"
 #include "Simulation/NeighborSearch.h"
+#include "Simulation/ResourceEstimate.h"
 #include "Utilities/TriangleMesh.h"
 
 namespace consph {
@@ -65,6 +66,9 @@ class BoundaryModel {
   // `fluid` holds the initial particles (after the blocks are sampled): a model may place its
   // samples where that fluid can rest (the Akinci model's "auto" surface offset).
   virtual void initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid, const CubicSplineKernel& kernel) = 0;
+  // What initialize() would allocate for `objects`, computed in floating point before it runs,
+  // so that a scene too large to fit is refused up front (ResourceEstimate).
+  virtual BoundaryEstimate estimate(const std::vector<BoundaryObject>& objects, const CubicSplineKernel& kernel) const = 0;
   // Fills fluid i -> boundary sample k lists (with cached kernel gradients).
   virtual void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) = 0;
   // True when the samples are virtual particles rebuilt every step (one per fluid particle and

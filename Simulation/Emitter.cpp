@@ -1,9 +1,23 @@
 #include "Simulation/Emitter.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 namespace consph {
+
+double Emitter::pointsAcross(Real extent, Real spacing) { return std::max(1.0, std::floor(double(extent) / double(spacing) + 1e-6)); }
+
+double Emitter::layersUntil(const EmitterDescription& d, Real spacing, Real stopAt) {
+  const double active = std::max(0.0, double(std::min(d.end, stopAt)) - double(d.start));
+  return std::floor(active * double(d.speed) / double(spacing) + 1e-6) + 1;
+}
+
+double Emitter::estimateCapacity(const EmitterDescription& d, Real spacing, Real stopAt) {
+  const double across = pointsAcross(d.circle ? 2 * d.radius : d.width, spacing);
+  const double along = pointsAcross(d.circle ? 2 * d.radius : d.height, spacing);
+  return across * along * layersUntil(d, spacing, stopAt);
+}
 
 Emitter::Emitter(const EmitterDescription& d, Real spacing, Real stopAt) : d_(d), spacing_(spacing) {
   // Nozzle axes: e1 horizontal for a horizontal jet (direction x y), e2 = direction x e1.
@@ -13,8 +27,9 @@ Emitter::Emitter(const EmitterDescription& d, Real spacing, Real stopAt) : d_(d)
   e1.normalize();
   const Vector3r e2 = dir.cross(e1).normalized();
   // A centred lattice: n points along an extent L, spaced like the fluid blocks, symmetric about the centre.
-  auto count = [&](Real extent) { return std::max(1, int(std::floor(extent / spacing_ + Real(1e-6)))); };
-  const int n1 = count(d_.circle ? 2 * d_.radius : d_.width), n2 = count(d_.circle ? 2 * d_.radius : d_.height);
+  // (Simulation refuses nozzles whose estimateCapacity does not fit before building one.)
+  const int n1 = int(pointsAcross(d_.circle ? 2 * d_.radius : d_.width, spacing_));
+  const int n2 = int(pointsAcross(d_.circle ? 2 * d_.radius : d_.height, spacing_));
   for (int a = 0; a < n1; ++a)
     for (int b = 0; b < n2; ++b) {
       const Real u = (a - Real(n1 - 1) / 2) * spacing_, v = (b - Real(n2 - 1) / 2) * spacing_;
@@ -22,10 +37,11 @@ Emitter::Emitter(const EmitterDescription& d, Real spacing, Real stopAt) : d_(d)
       if (d_.circle && u * u + v * v > d_.radius * d_.radius) continue;
       layerPoints_.push_back(d_.position + u * e1 + v * e2);
     }
-  const Real active = std::max(Real(0), std::min(d_.end, stopAt) - d_.start);
-  maxLayers_ = std::size_t(std::floor(active * d_.speed / spacing_ + Real(1e-6))) + 1;
+  maxLayers_ = std::size_t(layersUntil(d_, spacing_, stopAt));
   pending_ = spacing_;  // the first layer leaves at `start`
 }
+
+void Emitter::extendTo(Real endTime) { maxLayers_ = std::max(maxLayers_, std::size_t(layersUntil(d_, spacing_, endTime))); }
 
 std::size_t Emitter::emit(FluidModel& fluid, Real time, Real dt, Index& nextId) {
   if (time + dt <= d_.start || time >= d_.end) return 0;

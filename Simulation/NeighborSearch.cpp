@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <numeric>
 
+#include "Utilities/Error.h"
+
 namespace consph {
 
 void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
@@ -16,11 +18,17 @@ void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
     cellStart_.assign(1, 0);
     return;
   }
+  // A NaN or inf point (or points spanning more than a double) would make the cell-growing
+  // loop below run forever: refuse. (min/max skip a NaN, so each point is checked.)
   Vector3r lo = points[0], hi = points[0];
-  for (std::size_t i = 1; i < n; ++i) {
+  bool finite = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    finite &= points[i].allFinite();
     lo = lo.cwiseMin(points[i]);
     hi = hi.cwiseMax(points[i]);
   }
+  if (!finite || !(hi - lo).allFinite())
+    throw SimulationError("neighbour search: the points span a non-finite box (a NaN or inf position)");
   // Points flung far apart would need a huge box of small cells: grow the cells instead (still
   // >= cellSize, so the 27-cell query stays complete).
   cellSize_ = cellSize;

@@ -93,8 +93,10 @@ Params::Params(const json& object, std::string path, std::vector<ParamSpec> spec
       bool known = false;
       for (auto& s : specs_) known |= (s.name == it.key());
       if (!known) {
+        // Every key this object takes: the declared ones and those the caller reads itself.
         std::string list;
         for (auto& s : specs_) list += (list.empty() ? "" : ", ") + s.name;
+        for (auto& k : ignoredKeys) list += (list.empty() ? "" : ", ") + k;
         if (log) log(LogLevel::Warning, "unknown key '" + pathOf(it.key()) + "' ignored (known: " + (list.empty() ? "none" : list) + ")");
       }
     }

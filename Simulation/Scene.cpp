@@ -1,9 +1,11 @@
 #include "Simulation/Scene.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "Simulation/JsonLimits.h"
 #include "Utilities/Error.h"
 
 namespace consph {
@@ -23,28 +25,23 @@ json readJsonFile(const std::string& path) {
   std::stringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();
+  checkJsonLimits(text, path);
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
-    // Line and column of the offending byte.
-    std::size_t line = 1, column = 1;
-    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
     std::string what = e.what();
     const auto colon = what.find(": ", what.find("parse error"));
     if (colon != std::string::npos) what = what.substr(colon + 2);
-    throw InputError(path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": malformed JSON: " + what);
+    // e.byte is 1-based: the offending byte itself.
+    throw InputError(path + ":" + lineColumn(text, e.byte > 0 ? e.byte - 1 : 0) + ": malformed JSON: " + what);
+  } catch (const json::exception& e) {
+    throw InputError(path + ": malformed JSON: " + e.what());
   }
 }
 
 void applyOverride(json& scene, const std::string& dottedPath, const std::string& valueText) {
   json value;
+  checkJsonLimits(valueText, "--set " + dottedPath);
   try {
     value = json::parse(valueText);
   } catch (const json::parse_error&) {
@@ -91,6 +88,43 @@ const json& child(const json& object, const std::string& key) {
 
 void expectObject(const json& v, const std::string& path) {
   if (!v.is_object()) throw InputError(path + ": expected an object");
+}
+
+// Valid UTF-8 without control characters (0x00-0x1f, 0x7f); overlong forms and surrogates are
+// invalid.
+bool printableUtf8(const std::string& s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c < 0x20 || c == 0x7f) return false;
+    if (c < 0x80) {
+      ++i;
+      continue;
+    }
+    // Lead byte: 2, 3 or 4 bytes in all (0xc0, 0xc1 and above 0xf4 never start a valid sequence).
+    const int extra = c >= 0xc2 && c <= 0xdf ? 1 : c >= 0xe0 && c <= 0xef ? 2 : c >= 0xf0 && c <= 0xf4 ? 3 : -1;
+    if (extra < 0 || i + std::size_t(extra) >= s.size()) return false;  // bad lead byte, or truncated
+    std::uint32_t cp = c & (0x3fu >> extra);
+    for (int k = 1; k <= extra; ++k) {
+      const unsigned char cc = static_cast<unsigned char>(s[i + std::size_t(k)]);
+      if ((cc & 0xc0) != 0x80) return false;
+      cp = (cp << 6) | (cc & 0x3f);
+    }
+    if ((extra == 2 && cp < 0x800) || (extra == 3 && (cp < 0x10000 || cp > 0x10ffff)) || (cp >= 0xd800 && cp <= 0xdfff))
+      return false;
+    i += std::size_t(extra) + 1;
+  }
+  return true;
+}
+
+// A fluid's name becomes file names (NAME_00001.vtu, NAME.pvd) and XML attributes in the .pvd:
+// nothing that leaves the output folder, hides the file or breaks the XML.
+void checkFileName(const std::string& name, const std::string& path) {
+  if (name.empty()) throw InputError(path + ": must not be empty (it names the output files)");
+  if (!printableUtf8(name)) throw InputError(path + ": must be printable UTF-8 text (it names the output files)");
+  if (name.find_first_of("/\\") != std::string::npos || name.find("..") != std::string::npos || name[0] == '.')
+    throw InputError(path + ": '" + name + "' must not contain '/', '\\' or '..' or start with '.' (it names the output files)");
+  if (name.find_first_of("<>&\"'") != std::string::npos)
+    throw InputError(path + ": '" + name + "' must not contain < > & \" or ' (it is written into the .pvd's XML)");
 }
 
 std::string resolvePath(const std::string& baseDir, const std::string& file) {
@@ -175,6 +209,8 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
   parseBodyMotion(b, p, o, log);
   const Vector3r translation = p.vector3("translation"), scale = p.vector3("scale"), axis = p.vector3("rotationAxis");
   const Real angle = p.real("rotationAngle");
+  if (scale.cwiseAbs().minCoeff() == 0) throw InputError(p.pathOf("scale") + ": must not be 0 on any axis (the object would be flat)");
+  if (angle != 0 && axis.norm() == 0) throw InputError(p.pathOf("rotationAxis") + ": must not be the zero vector when rotationAngle is not 0");
   if (hasBox) {
     Params box(b["box"], at(path, "box"),
                {{"min", ParamType::Vector3, json(), "lower corner, m"}, {"max", ParamType::Vector3, json(), "upper corner, m"}},
@@ -193,6 +229,13 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
       for (auto& t : o.mesh.triangles) std::swap(t[1], t[2]);
   }
   transformMesh(o.mesh, scale, axis, angle, translation);
+  // Finite inputs can still overflow (a scale of 1e308 on a 2 m mesh), and a box of inf extent
+  // would make every grid built over it loop.
+  Vector3r lo, hi;
+  o.mesh.boundingBox(lo, hi);
+  const bool finite = std::all_of(o.mesh.vertices.begin(), o.mesh.vertices.end(), [](const Vector3r& v) { return v.allFinite(); });
+  if (!finite || !(hi - lo).allFinite())
+    throw InputError(path + ": the transformed object (scale, rotation, translation) has coordinates beyond the range of a number");
   return o;
 }
 
@@ -236,8 +279,8 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   SceneDescription s;
   s.raw = scene;
   s.baseDir = baseDir;
-  Params top(scene, "", {}, log, {"name", "description", "simulation", "fluids", "boundaries", "probes", "output"});
-  (void)top;
+  Params top(scene, "", {{"name", ParamType::String, "", "name of the scene (the summary's \"scene\")"}}, log,
+             {"description", "simulation", "fluids", "boundaries", "probes", "output"});
 
   // simulation
   const json& sim = child(scene, "simulation");
@@ -252,6 +295,9 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
              {"stopAt", ParamType::Real, 1.0, "simulated end time, s", 0, 1e9},
              {"particleSpacing", ParamType::Real, 1.8566, "lattice spacing of fluid blocks in particle radii r (particle volume = spacing^3); the default gives SPlisHSPlasH's volume 0.8 (2r)^3", 1.2, 3},
              {"sortInterval", ParamType::Int, 50, "re-sort particles in Z-order every this many steps (0: never)", 0, 1e9},
+             {"maxParticles", ParamType::Real, 0.0,
+              "refuse a scene whose estimated memory exceeds this many fluid particles' (2 KB each; boundary samples and "
+              "volume-map cells count by their size); 0: half this machine's memory", 0, 1e15},
              {"iterationCapSteps", ParamType::Int, 100, "stop when the pressure solver hits its iteration cap this many steps in a row", 1, 1e9},
              {"boundaryPressure", ParamType::String, "auto",
               "boundary neighbours in the pressure solve (auto: extrapolation with sampled walls, consistent with volume maps)",
@@ -269,6 +315,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   s.particleSpacing = sp.real("particleSpacing");
   s.sortInterval = sp.integer("sortInterval");
   s.iterationCapSteps = sp.integer("iterationCapSteps");
+  s.maxParticles = sp.real("maxParticles");
   const std::string bp = sp.string("boundaryPressure");
   s.boundaryPressureAuto = bp == "auto";
   s.boundaryPressure = bp == "mirroring" ? BoundaryPressure::Mirroring
@@ -293,6 +340,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
     s.hasDomain = true;
     s.domainMin = dp.vector3("min");
     s.domainMax = dp.vector3("max");
+    if ((s.domainMax - s.domainMin).minCoeff() <= 0) throw InputError("simulation.domain: max must exceed min on every axis");
   }
 
   // fluids
@@ -308,6 +356,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
               log, {"forces", "blocks", "emitters", "removeOutside"});
     FluidDescription fd;
     fd.name = fp.string("name");
+    checkFileName(fd.name, fp.pathOf("name"));
     fd.density0 = fp.real("density0");
     fd.path = path;
     fd.forces = child(fluids[f], "forces");
@@ -359,12 +408,14 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
             {{"enabled", ParamType::Bool, true, "write frames"},
              {"directory", ParamType::String, "output", "output folder (relative to the working directory)"},
              {"fps", ParamType::Real, 25.0, "frames per simulated second", 1e-3, 1e6},
-             {"probeFps", ParamType::Real, 0.0, "rows of probes.csv per simulated second (0: one per step)", 0, 1e9}},
+             {"probeFps", ParamType::Real, 0.0, "rows of probes.csv per simulated second (0: one per step)", 0, 1e9},
+             {"overwrite", ParamType::Bool, false, "clear another run's files (frames, .pvd, ...) from the folder instead of refusing it"}},
             log, {});
   s.output.enabled = op.boolean("enabled");
   s.output.directory = op.string("directory");
   s.output.fps = op.real("fps");
   s.output.probeFps = op.real("probeFps");
+  s.output.overwrite = op.boolean("overwrite");
 
   // probes (resolved against the boundaries when the simulation is built)
   s.probes = parseProbes(child(scene, "probes"), log);

@@ -33,6 +33,7 @@ struct OutputSettings {
   std::string directory = "output";
   Real fps = 25;
   Real probeFps = 0;  // probe rows per simulated second; 0: every step
+  bool overwrite = false;  // clear another run's files from the folder instead of refusing it
 };
 
 struct SceneDescription {
@@ -45,7 +46,8 @@ struct SceneDescription {
   Real stopAt = 1;
   Real particleSpacing = Real(1.8566);  // lattice spacing of fluid blocks, in particle radii (0.8^(1/3) 2)
   int sortInterval = 50;
-  int iterationCapSteps = 100;  // stop when the solver hit its cap this many steps in a row
+  int iterationCapSteps = 100;
+  double maxParticles = 0;  // refuse scenes estimated above this many fluid particles' memory (0: half the machine's)  // stop when the solver hit its cap this many steps in a row
   BoundaryPressure boundaryPressure = BoundaryPressure::Consistent;
   // "auto" (the default): chosen by the boundary model when the simulation is built,
   // extrapolation for sampled walls, consistent for implicit ones (docs/boundary-pressure.md).

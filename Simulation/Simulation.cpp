@@ -8,6 +8,7 @@
 
 #include "Boundary/MassProperties.h"
 #include "Utilities/LineFile.h"
+#include "Utilities/OutputFolder.h"
 #include "Utilities/Timer.h"
 #include "Utilities/VtkWriter.h"
 
@@ -18,14 +19,17 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
   const FluidDescription& fd = scene_.fluids.at(0);
   fluid_ = std::make_unique<FluidModel>(fd.name, fd.density0);
   averagedPressure_ = &fluid_->fields().add<Real>("pressureAverage", FieldSorted | FieldExported, Real(0));
-  for (const EmitterDescription& e : fd.emitters) emitters_.emplace_back(e, scene_.particleSpacing * scene_.particleRadius, scene_.stopAt);
-  initializeFluid();
-  dropParticlesInsideBodies();
-
   const PluginContext context{fluid_.get(), scene_.particleRadius, kernel_.supportRadius(), log_,
                               scene_.particleSpacing * scene_.particleRadius};
   boundaryModel_ = plugins_.boundaryModels.create(scene_.boundaryModel["type"].get<std::string>(), scene_.boundaryModel,
                                                   "simulation.boundaryModel", context, log_);
+  // Before anything is allocated: refuse what cannot fit, with the estimate.
+  refuseIfTooLarge(estimateResources(scene_.stopAt), scene_.maxParticles);
+  emittersEndTime_ = scene_.stopAt;
+  for (const EmitterDescription& e : fd.emitters) emitters_.emplace_back(e, scene_.particleSpacing * scene_.particleRadius, emittersEndTime_);
+  initializeFluid();
+  dropParticlesInsideBodies();
+
   boundaryModel_->initialize(scene_.boundaries, *fluid_, kernel_);
   // "auto": the treatment whose wall loads and wall-layer pressures match hydrostatics with this
   // wall model (measured, docs/boundary-pressure.md): MLS extrapolation where the walls are
@@ -84,6 +88,18 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
 
 Simulation::~Simulation() = default;
 
+ResourceEstimate Simulation::estimateResources(Real endTime) const {
+  ResourceEstimate e;
+  const Real d = scene_.particleSpacing * scene_.particleRadius;
+  for (const FluidBlock& b : scene_.fluids[0].blocks) {
+    const auto n = latticeCounts(b, d);
+    e.fluidParticles += n[0] * n[1] * n[2];
+  }
+  for (const EmitterDescription& em : scene_.fluids[0].emitters) e.fluidParticles += Emitter::estimateCapacity(em, d, endTime);
+  e.boundary = boundaryModel_->estimate(scene_.boundaries, kernel_);
+  return e;
+}
+
 void Simulation::initializeFluid() {
   // Blocks are filled on a cubic lattice of spacing d = particleSpacing r, one particle per cell
   // of volume d^3. The default d = 0.8^(1/3) 2r gives SPlisHSPlasH's particle volume 0.8 (2r)^3
@@ -93,8 +109,9 @@ void Simulation::initializeFluid() {
   const Real r = scene_.particleRadius, d = scene_.particleSpacing * r;
   std::vector<Vector3r> x, v;
   for (const FluidBlock& b : scene_.fluids[0].blocks) {
-    int n[3];
-    for (int a = 0; a < 3; ++a) n[a] = std::max(1, int(std::floor((b.max[a] - b.min[a]) / d + Real(1e-4))));
+    // Counted in floating point; refuseIfTooLarge has bounded their product by 2^32.
+    const auto count = latticeCounts(b, d);
+    const int n[3] = {int(count[0]), int(count[1]), int(count[2])};
     for (int i = 0; i < n[0]; ++i)
       for (int j = 0; j < n[1]; ++j)
         for (int k = 0; k < n[2]; ++k) {
@@ -278,8 +295,21 @@ void Simulation::step() {
   }
 }
 
-void Simulation::run(Real until, const std::function<void(const Simulation&)>& progress) {
-  while (!reached(until)) {
+void Simulation::extendRunTo(Real until) {
+  if (emitters_.empty() || !(until > emittersEndTime_)) return;
+  refuseIfTooLarge(estimateResources(until), scene_.maxParticles);
+  emittersEndTime_ = until;
+  std::size_t budget = fluid_->size();
+  for (Emitter& e : emitters_) {
+    e.extendTo(until);
+    budget += e.remaining();
+  }
+  fluid_->fields().reserve(std::max(budget, fluid_->fields().capacity()));
+}
+
+void Simulation::run(Real until, const std::function<void(const Simulation&)>& progress, const std::function<bool()>& stop) {
+  extendRunTo(until);
+  while (!reached(until) && !(stop && stop())) {
     step();
     if (progress) progress(*this);
   }
@@ -387,6 +417,13 @@ void Simulation::checkState() {
 }
 
 void Simulation::setOutputDirectory(const std::string& dir) {
+  // A folder this simulation writes already is its own; any other must hold no other run's files.
+  if (dir != ownedDirectory_) {
+    claimOutputFolder(dir, scene_.output.overwrite);
+    ownedDirectory_ = dir;
+    // The scene as run (after --set and Python overrides) beside the frames.
+    writeFileAtomically((std::filesystem::path(dir) / "scene.resolved.json").string(), scene_.raw.dump(2) + "\n");
+  }
   scene_.output.directory = dir;
   scene_.output.enabled = true;
   writer_ = std::make_unique<VtkSeries>(dir, fluid_->name());

@@ -10,6 +10,7 @@
 #include "Simulation/Emitter.h"
 #include "Simulation/PluginRegistry.h"
 #include "Simulation/Probes.h"
+#include "Simulation/ResourceEstimate.h"
 #include "Simulation/Scene.h"
 #include "Utilities/Log.h"
 
@@ -46,8 +47,15 @@ class Simulation {
   // non-pressure forces, time step, pressure solve, rigid-body coupling, integration, particle
   // removal, checks, export.
   void step();
-  // Steps until `until` (simulated seconds); `progress` is called after every step.
-  void run(Real until, const std::function<void(const Simulation&)>& progress = {});
+  // Makes the emitters' budgets (and the reserved particle storage) cover a run until `until`
+  // when that is past the end time they cover (at first the scene's stopAt): `--stop-at` and
+  // Python's run(until=...) past stopAt must not cut a jet short. Growing the storage may move
+  // the fields' data (NumPy views taken before become stale; Python raises StaleViewError at
+  // once). Refuses (InputError) a budget past the resource limit, like the scene's own.
+  void extendRunTo(Real until);
+  // Steps until `until` (simulated seconds), extendRunTo(until) first; `progress` is called after
+  // every step; `stop` (optional) is asked after every step and ends the run early when true.
+  void run(Real until, const std::function<void(const Simulation&)>& progress = {}, const std::function<bool()>& stop = {});
   // Whether run(until) would stop now: half a minimum step early, so no sliver of a step is left.
   bool reached(Real until) const { return time_ >= until - Real(0.5) * scene_.minTimeStep; }
 
@@ -91,6 +99,7 @@ class Simulation {
   bool hasDomain() const { return hasDomain_; }
 
  private:
+  ResourceEstimate estimateResources(Real endTime) const;
   void initializeFluid();
   void dropParticlesInsideBodies();
   void emitParticles();
@@ -127,11 +136,13 @@ class Simulation {
   std::size_t nextProbeRow_ = 0;
   std::vector<Emitter> emitters_;
   Index nextId_ = 0;                    // id of the next emitted particle
+  Real emittersEndTime_ = 0;            // the end time the emitters' budgets and the storage cover
 
   Real time_ = 0, dt_ = 0, dtPrevious_ = 0;
   bool hasDomain_ = false;
   Vector3r domainMin_, domainMax_;
   std::size_t nextFrame_ = 0;
+  std::string ownedDirectory_;  // the output folder claimed (claimOutputFolder) by this simulation
   SimulationStats stats_;
 };
 

@@ -16,4 +16,10 @@ struct SimulationError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Output could not be written: a full disk, a missing permission, a folder that is a file. Not
+// the input's fault, so it has its own exit code (5).
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace consph

@@ -9,7 +9,7 @@ namespace consph {
 
 LineFile::LineFile(const std::string& path, const std::string& header) : path_(path) {
   file_ = std::fopen(path.c_str(), "w");
-  if (!file_) throw InputError("cannot write '" + path + "': " + std::strerror(errno));
+  if (!file_) throw OutputError("cannot write '" + path + "': " + std::strerror(errno));
   append(header);
 }
 
@@ -20,7 +20,7 @@ LineFile::~LineFile() {
 void LineFile::append(const std::string& line) {
   const std::string text = line + "\n";
   if (std::fwrite(text.data(), 1, text.size(), file_) != text.size() || std::fflush(file_) != 0)
-    throw InputError("write to '" + path_ + "' failed: " + std::strerror(errno));
+    throw OutputError("write to '" + path_ + "' failed: " + std::strerror(errno));
 }
 
 }  // namespace consph

@@ -52,8 +52,12 @@ TriangleMesh loadMesh(const std::string& path) {
   for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
     const aiMesh* mesh = scene->mMeshes[mi];
     const Index base = Index(m.vertices.size());
-    for (unsigned v = 0; v < mesh->mNumVertices; ++v)
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
       m.vertices.emplace_back(mesh->mVertices[v].x, mesh->mVertices[v].y, mesh->mVertices[v].z);
+      // An inf or NaN vertex poisons every bounding box and grid built from the mesh.
+      if (!m.vertices.back().allFinite())
+        throw InputError("mesh file '" + path + "': vertex " + std::to_string(m.vertices.size()) + " is not finite (inf or NaN)");
+    }
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
       const aiFace& face = mesh->mFaces[f];
       if (face.mNumIndices != 3) continue;  // points and lines carry no surface

@@ -9,18 +9,40 @@
 
 namespace consph {
 
+namespace {
+// Writes `contents` to `path` (truncating); false when opening, writing or closing failed.
+bool writeInPlace(const std::string& path, const std::string& contents) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) return false;
+  out.write(contents.data(), std::streamsize(contents.size()));
+  out.close();  // a full disk often shows only when the buffer is flushed
+  return bool(out);
+}
+}  // namespace
+
 void writeFileAtomically(const std::string& path, const std::string& contents) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError("cannot write '" + tmp + "'");
-    out.write(contents.data(), std::streamsize(contents.size()));
-    out.flush();
-    if (!out) throw InputError("write to '" + tmp + "' failed (disk full?)");
-  }
+  namespace fs = std::filesystem;
   std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw InputError("cannot rename '" + tmp + "' to '" + path + "': " + ec.message());
+  // A device, FIFO or socket (/dev/stdout, a named pipe) is written in place: renaming over it
+  // would replace it with a regular file. A symlink to a regular file: the file it names is
+  // replaced, the link stays.
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::exists(status) && !fs::is_regular_file(status) && !fs::is_directory(status)) {
+    if (!writeInPlace(path, contents)) throw OutputError("cannot write '" + path + "'");
+    return;
+  }
+  const std::string target = fs::is_symlink(fs::symlink_status(path, ec)) ? fs::canonical(path, ec).string() : path;
+  const std::string tmp = (target.empty() ? path : target) + ".tmp";
+  if (!writeInPlace(tmp, contents)) {
+    fs::remove(tmp, ec);  // no partial file left behind
+    throw OutputError("cannot write '" + tmp + "' (disk full, or no permission?)");
+  }
+  fs::rename(tmp, target.empty() ? path : target, ec);
+  if (ec) {
+    const std::string why = ec.message();
+    fs::remove(tmp, ec);
+    throw OutputError("cannot rename '" + tmp + "' to '" + path + "': " + why);
+  }
 }
 
 namespace {
@@ -95,7 +117,7 @@ std::string particlesToVtu(ParticleFields& fields, std::size_t n) {
 VtkSeries::VtkSeries(std::string directory, std::string name) : directory_(std::move(directory)), name_(std::move(name)) {
   std::error_code ec;
   std::filesystem::create_directories(directory_, ec);
-  if (ec) throw InputError("cannot create output folder '" + directory_ + "': " + ec.message());
+  if (ec) throw OutputError("cannot create output folder '" + directory_ + "': " + ec.message());
 }
 
 std::string VtkSeries::write(std::size_t index, double time, const std::string& vtuContents) {

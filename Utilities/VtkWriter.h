@@ -9,7 +9,9 @@
 
 namespace consph {
 
-// Writes `contents` to `path` atomically (temporary file in the same folder, then rename).
+// Writes `contents` to `path` atomically (temporary file in the same folder, then rename; the
+// temporary is removed on failure). A path that is not a regular file (/dev/stdout, a FIFO) is
+// written in place. Failures throw OutputError.
 void writeFileAtomically(const std::string& path, const std::string& contents);
 
 // One point cloud: positions and named point arrays; with triangles, a surface mesh instead.

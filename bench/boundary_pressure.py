@@ -54,7 +54,7 @@ def run(binary, scene, solver, treatment, args, work):
     if args.analyse_only:
         return out, json.load(open(summary))
     cmd = [binary, scene, "--quiet", "--threads", str(args.threads), "--stop-at", str(args.stop_at), "--fps", str(FPS),
-           "--set", "output.directory=" + out, "--set", "simulation.boundaryPressure=" + treatment,
+           "--set", "output.directory=" + out, "--overwrite", "--set", "simulation.boundaryPressure=" + treatment,
            "--set", "simulation.pressureSolver=" + json.dumps(SOLVERS[solver]), "--summary-json", summary]
     if args.boundary_model:
         cmd += ["--set", "simulation.boundaryModel.type=" + args.boundary_model]
@@ -77,7 +77,7 @@ def column(binary, solver, treatment, args, work):
     scene_path = os.path.join(ROOT, "data", "scenes", "Hydrostatic.json")
     if not args.analyse_only:
         cmd = [binary, scene_path, "--quiet", "--threads", str(args.threads), "--stop-at", str(COLUMN_STOP),
-               "--fps", str(COLUMN_FPS), "--set", "output.directory=" + out, "--set", "simulation.boundaryPressure=" + treatment,
+               "--fps", str(COLUMN_FPS), "--set", "output.directory=" + out, "--overwrite", "--set", "simulation.boundaryPressure=" + treatment,
                "--set", "simulation.pressureSolver=" + json.dumps(COLUMN_SOLVERS[solver])]
         if args.boundary_model:
             cmd += ["--set", "simulation.boundaryModel.type=" + args.boundary_model]

@@ -9,7 +9,8 @@ namespace consph::python {
 namespace py = pybind11;
 
 // dict/list/tuple/str/bool/int/float/None and NumPy scalars and arrays (through .tolist()).
-// Anything else (or a NaN, which JSON cannot hold) -> InputError naming `path`.
+// Anything else (a NaN, which JSON cannot hold, an int outside 64 bits, a lone surrogate, a
+// container that contains itself or nests deeper than kMaxJsonDepth) -> InputError naming `path`.
 json toJson(py::handle value, const std::string& path);
 py::object toPython(const json& value);
 

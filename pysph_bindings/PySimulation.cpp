@@ -2,9 +2,11 @@
 
 #include <omp.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "Utilities/Progress.h"
+#include "Utilities/ThreadCount.h"
 #include "Utilities/Timer.h"
 #include "pysph_bindings/FieldViews.h"
 #include "pysph_bindings/JsonConversion.h"
@@ -146,6 +148,11 @@ void PySimulation::run(Real until, py::object progress) {
   if (!progress.is_none() && !py::isinstance<py::bool_>(progress) && !PyCallable_Check(progress.ptr()))
     throw py::type_error("run(progress=...): expected a bool or a callable(simulation)");
   const py::object perStep = progress.is_none() || py::isinstance<py::bool_>(progress) ? py::none() : progress;
+  // Emitters' budgets cover the run until `until`; if that grew the storage, views taken before
+  // point to freed memory: StaleViewError now, before any step (the next run() goes on).
+  requireIdle();
+  simulation_->extendRunTo(until);
+  checkViews(true);
   Progress display(double(until), bar);
   advance([&] { return simulation_->reached(until); }, perStep, bar ? &display : nullptr);
   if (bar) display.finish(double(simulation_->time()), simulation_->stepCount());
@@ -233,6 +240,8 @@ output: None (the scene's "output"), False (write no frames) or a directory for 
           "run",
           [](PySimulation& s, const py::object& until, py::object progress) {
             const Real end = until.is_none() ? s.simulation().scene().stopAt : until.cast<Real>();
+            // NaN would never be reached and inf never ends: the CLI's --stop-at refuses both too.
+            if (!std::isfinite(end)) throw py::value_error("run: until must be a finite time, got " + std::to_string(end));
             s.run(end, std::move(progress));
           },
           py::arg("until") = py::none(), py::arg("progress") = false,
@@ -313,7 +322,7 @@ output: None (the scene's "output"), False (write no frames) or a directory for 
           "output_fps", [](PySimulation& s) { return s.simulation().scene().output.fps; },
           [](PySimulation& s, Real fps) {
             s.requireIdle();
-            if (!(fps > 0)) throw py::value_error("output_fps: must be > 0");
+            if (!(fps > 0) || !std::isfinite(fps)) throw py::value_error("output_fps: must be finite and > 0");
             s.simulation().setOutputFps(fps);
           })
       .def("__repr__", [](PySimulation& s) {
@@ -323,10 +332,14 @@ output: None (the scene's "output"), False (write no frames) or a directory for 
                std::to_string(sim.stepCount()) + " steps>";
       });
 
-  m.def("set_num_threads", [](int n) {
+  m.def("set_num_threads", [](long long n) {
     if (n < 1) throw py::value_error("set_num_threads: expected n >= 1");
-    omp_set_num_threads(n);
-  }, py::arg("n"), "OpenMP threads used by steps started from this Python thread.");
+    std::string warning;
+    omp_set_num_threads(clampThreadCount(n, warning));
+    if (!warning.empty() &&
+        PyErr_WarnEx(py::module_::import("consph._consph").attr("ConsphWarning").ptr(), ("set_num_threads: " + warning).c_str(), 1) < 0)
+      throw py::error_already_set();  // warnings-as-errors
+  }, py::arg("n"), "OpenMP threads used by steps started from this Python thread (at most 4x the hardware threads, 1024).");
   m.def("get_num_threads", [] { return omp_get_max_threads(); });
 }
 

@@ -21,6 +21,7 @@ PYBIND11_MODULE(_consph, m) {
   // The CLI's error classes, with its messages: bad input, and a simulation that blew up.
   py::register_exception<consph::InputError>(m, "SceneError", PyExc_ValueError);
   py::register_exception<consph::SimulationError>(m, "SimulationError", PyExc_RuntimeError);
+  py::register_exception<consph::OutputError>(m, "OutputError", PyExc_OSError);
   py::register_exception<StaleViewError>(m, "StaleViewError", PyExc_RuntimeError);
   const py::object warning = py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
       "consph.ConsphWarning", "Warnings of a consph simulation (unknown scene keys, solver iteration cap, ...).",

@@ -38,6 +38,27 @@ inline std::unique_ptr<Simulation> simulationFromJson(json scene, const LogSink&
                                       log ? log : LogSink([](LogLevel, const std::string&) {}));
 }
 
+// 64 particles of radius 0.05 m (a 0.4 m cube of water) in a closed 0.6 x 1 x 0.6 m box.
+inline json tinyTankScene(double stopAt) {
+  json scene = json::parse(R"({
+    "simulation": {"particleRadius": 0.05},
+    "fluids": [{"name": "water", "blocks": [{"min": [0.1, 0.1, 0.1], "max": [0.5, 0.5, 0.5]}]}],
+    "boundaries": [{"box": {"min": [0, 0, 0], "max": [0.6, 1.0, 0.6]}, "inverted": true}]
+  })");
+  scene["simulation"]["stopAt"] = stopAt;
+  return scene;
+}
+
+// The InputError message building `scene` gives, or "(no error)".
+inline std::string sceneErrorOf(const json& scene) {
+  try {
+    simulationFromJson(scene);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
 inline std::string dataPath(const std::string& relative) { return std::string(CONSPH_TEST_DATA_DIR) + "/" + relative; }
 
 // The largest particle density, kg/m^3.

@@ -22,6 +22,7 @@ from ._consph import (  # noqa: F401
     FieldViewOwner,
     SceneError,
     SimulationError,
+    OutputError,
     StaleViewError,
     ConsphWarning,
     StaleViewWarning,
@@ -31,7 +32,7 @@ from ._consph import (  # noqa: F401
 from .plugins import Force, Param, PluginRegistry, default_plugins, plugins, register_force  # noqa: F401
 
 # Tracebacks and reprs say consph.SimulationError, not consph._consph.SimulationError.
-for _cls in (Simulation, Fluid, StepContext, FieldViewOwner, SceneError, SimulationError, StaleViewError,
+for _cls in (Simulation, Fluid, StepContext, FieldViewOwner, SceneError, SimulationError, OutputError, StaleViewError,
              ConsphWarning, StaleViewWarning):
     _cls.__module__ = __name__
 del _cls

@@ -6,39 +6,16 @@
 #include <filesystem>
 #include <fstream>
 
+#include "CliUtil.h"
 #include "TestUtil.h"
 
 using namespace consph;
+using consph::test::runCommand;
+using consph::test::tempDir;
 
 namespace {
-json tinyScene() {
-  return json::parse(R"({
-    "simulation": {"particleRadius": 0.05, "stopAt": 0.2},
-    "fluids": [{"name": "water", "blocks": [{"min": [0.1, 0.1, 0.1], "max": [0.5, 0.5, 0.5]}]}],
-    "boundaries": [{"box": {"min": [0, 0, 0], "max": [0.6, 1.0, 0.6]}, "inverted": true}]
-  })");
-}
+json tinyScene() { return test::tinyTankScene(0.2); }
 
-struct CommandResult {
-  int status;
-  std::string output;
-};
-CommandResult runCommand(const std::string& command) {
-  CommandResult r{0, ""};
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof(buffer), pipe)) r.output += buffer;
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string tempDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir.string();
-}
 }  // namespace
 
 TEST(Failures, NaNStopsWithStepTimeAndParticle) {

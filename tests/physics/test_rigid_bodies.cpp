@@ -8,10 +8,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <numbers>
 
+#include "CliUtil.h"
 #include "Simulation/Simulation.h"
 #include "TestUtil.h"
 
@@ -560,6 +562,45 @@ TEST(RigidBodies, EmitterCountAndRemoval) {
   EXPECT_EQ(sim->stats().particlesRemoved, std::size_t(8 * 7));
   EXPECT_EQ(f.size(), std::size_t(12 * 3));
   EXPECT_EQ(data, sim->fluid().positions.data());
+}
+
+// Issue 16: the budget followed the scene's stopAt, so a run to a later time (--stop-at, Python
+// run(until=...)) cut the jet: --stop-at 1.0 emitted 24 particles where stopAt = 1.0 emitted 108.
+namespace {
+std::string jetScene(double stopAt) {
+  return R"({
+    "simulation": {"particleRadius": 0.025, "particleSpacing": 2.0, "gravity": [0, 0, 0], "maxTimeStep": 0.001,
+                   "minTimeStep": 0.001, "initialTimeStep": 0.001, "stopAt": )" + std::to_string(stopAt) + R"(},
+    "fluids": [{"emitters": [{"position": [0, 0, 0], "direction": [1, 0, 0], "width": 0.2, "height": 0.1, "speed": 1.0}]}],
+    "output": {"enabled": false}})";
+}
+}  // namespace
+
+TEST(RigidBodies, EmitterBudgetFollowsTheRunsEndTime) {
+  auto reference = makeSimulation(jetScene(0.6));
+  reference->run(0.6);
+  EXPECT_EQ(reference->stats().particlesEmitted, 8u * 13u);  // 4 x 2 per layer, 1 + floor(0.6 / 0.05) layers
+  auto extended = makeSimulation(jetScene(0.1));
+  extended->run(0.1);
+  EXPECT_EQ(extended->stats().particlesEmitted, 8u * 3u);
+  // Growing the budget reserves once; within the longer run no field moves.
+  extended->extendRunTo(0.6);
+  const Vector3r* data = extended->fluid().positions.data();
+  extended->run(0.6);
+  EXPECT_EQ(extended->stats().particlesEmitted, reference->stats().particlesEmitted);
+  EXPECT_EQ(data, extended->fluid().positions.data());
+  for (std::size_t i = 0; i < reference->fluid().size(); ++i)
+    ASSERT_EQ(reference->fluid().positions[i], extended->fluid().positions[i]) << i;
+}
+
+TEST(RigidBodies, EmitterBudgetFollowsTheCliStopAt) {
+  const std::string dir = test::tempDir("consph_emitter_stop_at");
+  std::ofstream(dir + "/jet.json") << jetScene(0.1);
+  const std::string run = std::string(CONSPH_BINARY) + " " + dir + "/jet.json --quiet --no-output --threads 1 ";
+  ASSERT_EQ(test::runCommand(run + "--stop-at 0.6 --summary-json " + dir + "/a.json").status, 0);
+  ASSERT_EQ(test::runCommand(run + "--set simulation.stopAt=0.6 --summary-json " + dir + "/b.json").status, 0);
+  EXPECT_EQ(readJsonFile(dir + "/a.json")["particlesEmitted"], 104);
+  EXPECT_EQ(readJsonFile(dir + "/b.json")["particlesEmitted"], 104);
 }
 
 // A body placed into a fluid block: the fluid inside it is dropped, the fluid overlapping its

@@ -65,3 +65,68 @@ def test_warnings_reach_python():
         with pytest.raises(consph.ConsphWarning):  # warnings-as-errors works as in any Python library
             consph.Simulation.from_dict(scene)
     consph.Simulation.from_dict(free_particles_scene())  # no warnings for a clean scene
+
+
+def test_unconvertible_scene_values_raise_scene_error_with_the_path():
+    # Issue 16: these segfaulted (recursion) or raised RuntimeError "Unable to cast".
+    scene = tank_scene()
+    loop = []
+    loop.append(loop)
+    scene["description"] = loop
+    with pytest.raises(consph.SceneError, match=r"^scene\.description\[0\]: the list contains itself$"):
+        consph.Simulation.from_dict(scene)
+    deep = {}
+    for _ in range(50000):
+        deep = {"a": deep}
+    scene["description"] = deep
+    with pytest.raises(consph.SceneError, match=r"^scene\.description(\.a)+: nested deeper than 200 levels$"):
+        consph.Simulation.from_dict(scene)
+    scene = tank_scene(sortInterval=2 ** 64)
+    with pytest.raises(consph.SceneError, match=r"^scene\.simulation\.sortInterval: the integer 18446744073709551616 is out"):
+        consph.Simulation.from_dict(scene)
+    scene = tank_scene(sortInterval=-2 ** 63 - 1)
+    with pytest.raises(consph.SceneError, match=r"^scene\.simulation\.sortInterval: the integer"):
+        consph.Simulation.from_dict(scene)
+    scene = tank_scene()
+    scene["fluids"][0]["name"] = "water\ud800"
+    with pytest.raises(consph.SceneError, match=r"^scene\.fluids\[0\]\.name: the string is not valid Unicode"):
+        consph.Simulation.from_dict(scene)
+    scene = tank_scene()
+    scene["\udcff"] = 1
+    with pytest.raises(consph.SceneError, match=r"not valid Unicode"):
+        consph.Simulation.from_dict(scene)
+    with pytest.raises(consph.SceneError, match=r"^simulation\.stopAt: the integer"):
+        consph.Simulation.from_dict(tank_scene(), overrides={"simulation.stopAt": 10 ** 30})
+
+
+def test_thread_counts_are_clamped_and_end_times_finite(tank):
+    try:
+        with pytest.warns(consph.ConsphWarning, match="set_num_threads: 100000 threads clamped to"):
+            consph.set_num_threads(100000)
+        assert consph.get_num_threads() <= 1024
+    finally:
+        consph.set_num_threads(int(os.environ["OMP_NUM_THREADS"]))
+    for bad in (float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="until must be a finite time"):
+            tank.run(until=bad)
+    with pytest.raises(ValueError, match="output_fps: must be finite"):
+        tank.output_fps = float("inf")
+
+
+def test_failed_writes_raise_output_error(tank, tmp_path):
+    # Issue 16: a full disk raised SceneError (the bad-input class) and left a .tmp.
+    with pytest.raises(consph.OutputError, match="cannot write '/dev/full'"):
+        tank.export_frame("/dev/full")
+    assert issubclass(consph.OutputError, OSError)
+    with pytest.raises(consph.SceneError, match=r"fluids\[0\]\.name: '\.\./x' must not contain"):
+        consph.Simulation.from_dict(tank_scene(), overrides={"fluids.0.name": "../x"})
+
+
+def test_output_folder_of_another_run_is_refused(tmp_path):
+    first = consph.Simulation.from_dict(tank_scene(), output=tmp_path / "out")
+    first.step(2)
+    first.output_directory = tmp_path / "out"  # its own folder: no check again
+    with pytest.raises(consph.SceneError, match="holds another run's files .*pass --overwrite"):
+        consph.Simulation.from_dict(tank_scene(), output=tmp_path / "out")
+    consph.Simulation.from_dict(tank_scene(), output=tmp_path / "out", overrides={"output.overwrite": True})
+    assert json.loads((tmp_path / "out" / "scene.resolved.json").read_text())["name"] == "TinyTank"

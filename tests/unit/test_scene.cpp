@@ -20,14 +20,7 @@ json minimalScene() {
   })");
 }
 
-std::string errorOf(const json& scene) {
-  try {
-    test::simulationFromJson(scene);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+std::string errorOf(const json& scene) { return test::sceneErrorOf(scene); }
 
 std::string writeTemp(const std::string& name, const std::string& text) {
   const auto path = std::filesystem::temp_directory_path() / name;
@@ -101,6 +94,28 @@ TEST(Scene, UnknownKeysWarn) {
   EXPECT_NE(all.find("unknown key 'simulation.particleRadios'"), std::string::npos) << all;
   EXPECT_NE(all.find("known: particleRadius"), std::string::npos) << all;
   EXPECT_NE(all.find("unknown key 'outptu'"), std::string::npos) << all;
+}
+
+TEST(Scene, UnknownKeyWarningsListEveryKnownKey) {
+  // Issue 16: the lists left out the keys read outside the Params object (top level: "none").
+  json s = minimalScene();
+  s["nmae"] = 1;
+  s["fluids"][0]["blcoks"] = 1;
+  s["boundaries"][0]["dinamic"] = 1;
+  test::CapturedLog log;
+  test::simulationFromJson(s, log.sink());
+  ASSERT_EQ(log.warnings.size(), 3u);
+  auto warningFor = [&](const std::string& key) {
+    for (auto& w : log.warnings)
+      if (w.find("unknown key '" + key + "'") != std::string::npos) return w;
+    return std::string("(none)");
+  };
+  EXPECT_NE(warningFor("nmae").find("(known: name, description, simulation, fluids, boundaries, output)"), std::string::npos)
+      << warningFor("nmae");
+  EXPECT_NE(warningFor("fluids[0].blcoks").find("(known: name, density0, forces, blocks, emitters, removeOutside)"), std::string::npos)
+      << warningFor("fluids[0].blcoks");
+  const std::string b = warningFor("boundaries[0].dinamic");
+  for (const char* key : {"mesh", "box", "density", "animated", "hinge", "dynamic"}) EXPECT_NE(b.find(key), std::string::npos) << b;
 }
 
 TEST(Scene, MissingMeshFileIsAnErrorNamingTheFile) {
