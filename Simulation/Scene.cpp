@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "Utilities/Error.h"
+#include "Utilities/MeshClosure.h"
 
 namespace consph {
 
@@ -189,6 +190,14 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
     }
   } else {
     o.mesh = loadMesh(resolvePath(baseDir, p.string("mesh")));
+    if (o.motion == BodyMotion::Dynamic) {
+      // Mass, centre of mass and inertia come from the divergence theorem over the surface,
+      // which holds for a closed surface only (an open one still gives a volume, a wrong one).
+      const MeshClosure closure = checkClosure(o.mesh);
+      if (!closure.closed())
+        throw InputError(at(path, "mesh") + ": a dynamic body needs a closed mesh, and '" + p.string("mesh") + "' has " +
+                         closure.describe() + ": its volume, centre of mass and inertia would be wrong");
+    }
     if (o.inverted)
       for (auto& t : o.mesh.triangles) std::swap(t[1], t[2]);
   }

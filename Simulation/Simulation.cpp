@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "Boundary/MassProperties.h"
+#include "Boundary/RigidBodyGuard.h"
 #include "Utilities/Timer.h"
 #include "Utilities/VtkWriter.h"
 
@@ -65,11 +66,61 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
     domainMin_ -= margin;
     domainMax_ += margin;
   }
+  speedScale_ = sceneSpeedScale(scene_);
+  if (bodies_ && bodies_->hasDynamic()) guardBodies();
   dt_ = dtPrevious_ = scene_.initialTimeStep;
   if (scene_.output.enabled) setOutputDirectory(scene_.output.directory);
 }
 
 Simulation::~Simulation() = default;
+
+void Simulation::guardBodies() {
+  // Where a body may go: the scene's domain, or the fluid's (the static objects' box) grown to
+  // hold everything at t = 0 (a body dropped from above a floor slab starts outside the slab's box).
+  bool has = hasDomain_;
+  Vector3r lo = domainMin_, hi = domainMax_;
+  if (hasDomain_ && !scene_.hasDomain) {
+    auto add = [&](const Vector3r& x) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    };
+    for (const FluidBlock& b : scene_.fluids[0].blocks) add(b.min), add(b.max);
+    for (const EmitterDescription& e : scene_.fluids[0].emitters) add(e.position);
+    for (const BoundaryObject& o : scene_.boundaries)
+      if (o.motion != BodyMotion::Static)
+        for (const Vector3r& x : o.mesh.vertices) add(x);
+    const Vector3r margin = Real(0.05) * (hi - lo) + Vector3r::Constant(kernel_.supportRadius());
+    lo -= margin;
+    hi += margin;
+  }
+  std::vector<std::string> labels;
+  for (const RigidBody& b : bodies_->bodies()) {
+    const BoundaryObject& o = scene_.boundaries[b.object];
+    labels.push_back(o.name.empty() ? o.path : "'" + o.name + "' (" + o.path + ")");
+  }
+  const RigidBodyGuard::Limits limits = RigidBodyGuard::limitsFor(speedScale_.speed, has, lo, hi);
+  bodyGuard_ = std::make_unique<RigidBodyGuard>(bodies_->bodies(), labels, limits);
+  {
+    std::ostringstream s;
+    s << "dynamic bodies stop the run beyond " << limits.maxSpeed << " m/s (" << RigidBodyGuard::kSpeedFactor
+      << " x the scene's speed scale " << speedScale_.speed << " m/s: fall height " << speedScale_.fallHeight
+      << " m, initial speed " << speedScale_.initialSpeed << " m/s)";
+    log_(LogLevel::Info, s.str());
+  }
+  // Bodies drawn into each other or into a wall: rigid contact pushes them apart at a bounded
+  // speed (RigidContact::kMaxPushOutSpeed); say so, since the scene is probably not what was meant.
+  // Layers closer than half a particle radius count as touching (sample grids do not line up).
+  for (const RigidContact::Overlap& o : bodies_->overlaps(boundaryModel_->samples(), Real(0.5) * scene_.particleRadius)) {
+    auto name = [&](Index object) {
+      const BoundaryObject& b = scene_.boundaries[object];
+      return b.name.empty() ? b.path : "'" + b.name + "' (" + b.path + ")";
+    };
+    std::ostringstream s;
+    s << name(o.objectA) << " and " << name(o.objectB) << " overlap by " << o.depth
+      << " m at t = 0: rigid contact pushes them apart at most " << RigidContact::kMaxPushOutSpeed << " m/s";
+    log_(LogLevel::Warning, s.str());
+  }
+}
 
 void Simulation::initializeFluid() {
   // Blocks are filled on a cubic lattice of spacing d = particleSpacing r, one particle per cell
@@ -346,6 +397,7 @@ void Simulation::checkState() {
       << "): it leaked through a boundary or the simulation blew up";
     throw SimulationError(s.str());
   }
+  if (bodyGuard_) bodyGuard_->check(bodies_->bodies(), stats_.steps, time_);
   if (stats_.consecutiveCapHits >= std::size_t(scene_.iterationCapSteps)) {
     std::ostringstream s;
     s << "step " << stats_.steps << ", t = " << time_ << " s: the pressure solver hit its iteration cap in "

@@ -10,11 +10,13 @@
 #include "Simulation/Emitter.h"
 #include "Simulation/PluginRegistry.h"
 #include "Simulation/Scene.h"
+#include "Simulation/SpeedScale.h"
 #include "Utilities/Log.h"
 
 namespace consph {
 
 class VtkSeries;
+class RigidBodyGuard;
 
 // Accumulated figures of a run (the CLI's summary, Python's sim.summary()).
 struct SimulationStats {
@@ -80,11 +82,16 @@ class Simulation {
   // The summary figures (the CLI prints them; --summary-json writes them).
   json summary() const;
 
+  // The scene's largest speed from its start state (Simulation/SpeedScale.h).
+  const SpeedScale& speedScale() const { return speedScale_; }
+
   // Domain outside which a particle counts as escaped (a blow-up).
   bool hasDomain() const { return hasDomain_; }
 
  private:
   void initializeFluid();
+  // The dynamic bodies' checks (speed, domain, NaN) and the warning for overlaps at t = 0.
+  void guardBodies();
   void dropParticlesInsideBodies();
   void emitParticles();
   void coupleRigidBodies(StepContext& ctx);
@@ -111,6 +118,8 @@ class Simulation {
   std::unique_ptr<VtkSeries> writer_, bodyWriter_;
   std::string bodyCsv_;  // every frame's body rows so far (rewritten atomically per frame)
   std::unique_ptr<RigidBodySystem> bodies_;
+  std::unique_ptr<RigidBodyGuard> bodyGuard_;  // null without dynamic bodies
+  SpeedScale speedScale_;                      // the scene's largest speed, from its start state
   std::vector<Vector3r> pairImpulses_;  // per fluid-boundary pair, this step (two-way coupling)
   std::vector<Emitter> emitters_;
   Index nextId_ = 0;                    // id of the next emitted particle

@@ -1,6 +1,10 @@
 // Helpers shared by the tests: simulations from JSON text with output off and log captured.
 #pragma once
+#include <sys/wait.h>
+
 #include <algorithm>
+#include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -65,6 +69,29 @@ inline Real surfaceHeight(const FluidModel& f, std::size_t layerCount, Real half
   Real sum = 0;
   for (std::size_t i = 0; i < layerCount; ++i) sum += heights[i];
   return sum / Real(layerCount) + halfSpacing;
+}
+
+// Runs a shell command; its exit status and its stdout and stderr together (CLI tests).
+struct CommandResult {
+  int status;
+  std::string output;
+};
+inline CommandResult runCommand(const std::string& command) {
+  CommandResult r{0, ""};
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof(buffer), pipe)) r.output += buffer;
+  const int status = pclose(pipe);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+// An empty folder of this name under the system's temporary folder.
+inline std::string tempDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
 }
 
 }  // namespace consph::test
