@@ -256,7 +256,9 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
              {"gravity", ParamType::Vector3, json::array({0, -9.81, 0}), "gravitational acceleration, m/s^2"},
              {"cflFactor", ParamType::Real, 1.0, "dt = cflFactor 0.4 (2r) / max|v|", 1e-3, 10},
              {"minTimeStep", ParamType::Real, 1e-4, "lower bound of the adaptive time step, s", 1e-8, 1},
-             {"maxTimeStep", ParamType::Real, 0.005, "upper bound of the adaptive time step, s", 1e-8, 1},
+             {"maxTimeStep", ParamType::Real, 0.005,
+              "upper bound of the adaptive time step, s; when not given: min(0.005, CFL step at the scene's speed scale sqrt(v0^2 + 2 g H), 0.125 h^2 / nu of an explicit viscosity)",
+              1e-8, 1},
              {"initialTimeStep", ParamType::Real, 0.001, "time step of the first step, s", 1e-8, 1},
              {"stopAt", ParamType::Real, 1.0, "simulated end time, s", 0, 1e9},
              {"particleSpacing", ParamType::Real, 1.8566, "lattice spacing of fluid blocks in particle radii r (particle volume = spacing^3); the default gives SPlisHSPlasH's volume 0.8 (2r)^3", 1.2, 3},
@@ -271,6 +273,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   s.cflFactor = sp.real("cflFactor");
   s.minTimeStep = sp.real("minTimeStep");
   s.maxTimeStep = sp.real("maxTimeStep");
+  s.maxTimeStepGiven = sp.isSet("maxTimeStep");
   s.initialTimeStep = sp.real("initialTimeStep");
   if (s.minTimeStep > s.maxTimeStep) throw InputError("simulation.minTimeStep: must not exceed simulation.maxTimeStep");
   s.stopAt = sp.real("stopAt");

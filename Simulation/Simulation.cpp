@@ -68,11 +68,40 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
   }
   speedScale_ = sceneSpeedScale(scene_);
   if (bodies_ && bodies_->hasDynamic()) guardBodies();
+  chooseTimeStepCap();
   dt_ = dtPrevious_ = scene_.initialTimeStep;
   if (scene_.output.enabled) setOutputDirectory(scene_.output.directory);
 }
 
 Simulation::~Simulation() = default;
+
+void Simulation::chooseTimeStepCap() {
+  // A cap the user gave stands as it is.
+  timeStepCap_ = scene_.maxTimeStep;
+  if (scene_.maxTimeStepGiven) return;
+  // The CFL condition at the fastest speed the scene will reach, not only at today's: a column
+  // or a tank starts at rest (CFL: no bound), and its first steps at the constant cap (tuned
+  // for r = 0.025) overshoot at fine resolution before any speed shows (issue 15: a 1 m column at
+  // r = 0.006, a block filling its tank at r = 0.005 blew up). U: Simulation/SpeedScale.h.
+  std::ostringstream why;
+  why << "default maximum time step: min(" << scene_.maxTimeStep << " s";
+  if (speedScale_.speed > 0) {
+    const Real cfl = scene_.cflFactor * Real(0.4) * 2 * scene_.particleRadius / speedScale_.speed;
+    timeStepCap_ = std::min(timeStepCap_, cfl);
+    why << ", CFL at the speed scale " << speedScale_.speed << " m/s: " << cfl << " s";
+  }
+  // Explicit forces' own limits (Morris et al. 1997's viscous diffusion bound).
+  for (std::size_t i = 0; i < forces_.size(); ++i) {
+    const Real limit = forces_[i]->maxStableTimeStep(kernel_);
+    if (limit < std::numeric_limits<Real>::infinity()) {
+      timeStepCap_ = std::min(timeStepCap_, limit);
+      why << ", " << scene_.fluids[0].forces[i]["type"].get<std::string>() << " stability: " << limit << " s";
+    }
+  }
+  timeStepCap_ = std::max(timeStepCap_, scene_.minTimeStep);
+  why << ") = " << timeStepCap_ << " s (simulation.maxTimeStep sets it by hand)";
+  log_(LogLevel::Info, why.str());
+}
 
 void Simulation::guardBodies() {
   // Where a body may go: the scene's domain, or the fluid's (the static objects' box) grown to
@@ -356,16 +385,17 @@ void Simulation::computeNonPressureAccelerations(StepContext& ctx) {
 }
 
 void Simulation::updateTimeStep() {
-  // CFL: dt = cflFactor 0.4 (2r) / max |v + dt a|, clamped to [minTimeStep, maxTimeStep].
+  // CFL: dt = cflFactor 0.4 (2r) / max |v + dt a|, clamped to [minTimeStep, timeStepCap_]
+  // (maxTimeStep when given, else chooseTimeStepCap's bound).
   FluidModel& f = *fluid_;
   Real maxSpeed2 = 0;
   const Real dtOld = dt_;
 #pragma omp parallel for schedule(static) reduction(max : maxSpeed2)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i)
     maxSpeed2 = std::max(maxSpeed2, (f.velocities[i] + dtOld * f.accelerations[i]).squaredNorm());
-  Real dt = scene_.maxTimeStep;
+  Real dt = timeStepCap_;
   if (maxSpeed2 > 0) dt = scene_.cflFactor * Real(0.4) * 2 * scene_.particleRadius / std::sqrt(maxSpeed2);
-  dt_ = std::clamp(dt, scene_.minTimeStep, scene_.maxTimeStep);
+  dt_ = std::clamp(dt, scene_.minTimeStep, timeStepCap_);
 }
 
 void Simulation::integrate() {
@@ -470,7 +500,11 @@ void Simulation::exportFrame(const std::string& path) {
   writeFileAtomically(path, particlesToVtu(fluid_->fields(), fluid_->size()));
 }
 
-void Simulation::addForce(std::unique_ptr<NonPressureForce> force) { forces_.push_back(std::move(force)); }
+void Simulation::addForce(std::unique_ptr<NonPressureForce> force) {
+  // An added explicit force's own limit bounds the default cap too (a given maxTimeStep stands).
+  if (!scene_.maxTimeStepGiven) timeStepCap_ = std::max(std::min(timeStepCap_, force->maxStableTimeStep(kernel_)), scene_.minTimeStep);
+  forces_.push_back(std::move(force));
+}
 
 json Simulation::summary() const {
   const auto& s = stats_;
@@ -492,6 +526,7 @@ json Simulation::summary() const {
       {"averageDensityErrorPercent", 100.0 * s.densityErrorSum / errSamples},
       {"maxDensityErrorPercent", 100.0 * s.densityErrorMax},
       {"iterationCapHits", s.iterationCapHits},
+      {"maxTimeStep", timeStepCap_},
       {"particlesLost", s.particlesLost},
       {"particlesEmitted", s.particlesEmitted},
       {"particlesRemoved", s.particlesRemoved},

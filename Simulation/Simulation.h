@@ -53,6 +53,8 @@ class Simulation {
 
   Real time() const { return time_; }
   Real dt() const { return dt_; }
+  // The largest step the adaptive step may take, s (see chooseTimeStepCap).
+  Real timeStepCap() const { return timeStepCap_; }
   std::size_t stepCount() const { return stats_.steps; }
   FluidModel& fluid() { return *fluid_; }
   const FluidModel& fluid() const { return *fluid_; }
@@ -92,6 +94,9 @@ class Simulation {
   void initializeFluid();
   // The dynamic bodies' checks (speed, domain, NaN) and the warning for overlaps at t = 0.
   void guardBodies();
+  // The cap of the adaptive step: maxTimeStep when the scene gives it, else the bound from the
+  // resolution and the physics (CFL at the speed scale, explicit forces' stability).
+  void chooseTimeStepCap();
   void dropParticlesInsideBodies();
   void emitParticles();
   void coupleRigidBodies(StepContext& ctx);
@@ -124,7 +129,7 @@ class Simulation {
   std::vector<Emitter> emitters_;
   Index nextId_ = 0;                    // id of the next emitted particle
 
-  Real time_ = 0, dt_ = 0, dtPrevious_ = 0;
+  Real time_ = 0, dt_ = 0, dtPrevious_ = 0, timeStepCap_ = 0;
   bool hasDomain_ = false;
   Vector3r domainMin_, domainMax_;
   std::size_t nextFrame_ = 0;
