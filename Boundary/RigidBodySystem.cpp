@@ -138,6 +138,16 @@ void RigidBodySystem::advance(Real dt, const Vector3r& gravity, const BoundarySa
     if (free[i] || bodies_[i].motion == BodyMotion::Animated) bodies_[i].advance(dt);  // animated: constant velocities
 }
 
+std::vector<char> RigidBodySystem::freeBodies() const {
+  std::vector<char> free(bodies_.size(), 0);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) free[i] = bodies_[i].motion == BodyMotion::Dynamic && hingeOfBody_[i] == kNone;
+  return free;
+}
+
+std::vector<RigidContact::Overlap> RigidBodySystem::overlaps(const BoundarySamples& samples, Real tolerance) {
+  return contact_.overlaps(bodies_, freeBodies(), bodyOfObject_, samples, tolerance);
+}
+
 void RigidBodySystem::advanceHinged(RigidBody& b, const HingeDescription& h, const Vector3r& J, const Vector3r& L,
                                     Real dt) {
   // Rotation about a fixed axis a through p: the joint's reaction acts at p and has no torque

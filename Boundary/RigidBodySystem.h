@@ -46,6 +46,9 @@ class RigidBodySystem {
   // axle, with the motor), free ones then rigid contact (RigidContact, on the current
   // `samples`), animated ones follow their prescribed velocity. Clears the impulses.
   void advance(Real dt, const Vector3r& gravity, const BoundarySamples& samples);
+  // Object pairs whose sample layers overlap by more than `tolerance` m now, one of them a free
+  // dynamic body (a start-up check: bodies drawn into each other or into a wall).
+  std::vector<RigidContact::Overlap> overlaps(const BoundarySamples& samples, Real tolerance);
   // Contacts found in the last advance().
   std::size_t contactCount() const { return contactCount_; }
   // Positions and velocities of the moving bodies' samples from the bodies' state, and each
@@ -61,6 +64,8 @@ class RigidBodySystem {
   std::string meshesToVtu() const;
 
  private:
+  // Free dynamic bodies: not hinged (rigid contact moves these only).
+  std::vector<char> freeBodies() const;
   void advanceHinged(RigidBody& b, const HingeDescription& h, const Vector3r& J, const Vector3r& L, Real dt);
 
   std::vector<RigidBody> bodies_;

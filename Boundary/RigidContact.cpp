@@ -4,15 +4,18 @@
 
 #include <algorithm>
 #include <limits>
+#include <tuple>
 
 namespace consph {
 
-std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vector<char>& solvable,
-                                const std::vector<Index>& bodyOfObject, const BoundarySamples& samples, Real dt) {
+std::vector<RigidContact::Contact> RigidContact::findContacts(const std::vector<RigidBody>& bodies,
+                                                              const std::vector<char>& solvable,
+                                                              const std::vector<Index>& bodyOfObject,
+                                                              const BoundarySamples& samples) {
   // Only free bodies with sample layers can touch anything (volume-map bodies have none).
   bool any = false;
   for (std::size_t b = 0; b < bodies.size(); ++b) any |= solvable[b] && !bodies[b].samples.empty();
-  if (!any) return 0;
+  if (!any) return {};
   const Real maxDepth = *std::max_element(layerDepth_.begin(), layerDepth_.end());
   const Real reach = std::max(2 * maxDepth, minDistance_);
   // Contacts are looked for a little beyond touching, so a body closing in fast is caught the
@@ -97,6 +100,30 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
   }
   std::vector<Contact> contacts;
   for (auto& list : perThread_) contacts.insert(contacts.end(), list.begin(), list.end());
+  return contacts;
+}
+
+std::vector<RigidContact::Overlap> RigidContact::overlaps(const std::vector<RigidBody>& bodies, const std::vector<char>& solvable,
+                                                          const std::vector<Index>& bodyOfObject, const BoundarySamples& samples,
+                                                          Real tolerance) {
+  // The deepest overlap per pair of objects, the pair ordered so that each is reported once.
+  std::vector<Overlap> found;
+  for (const Contact& c : findContacts(bodies, solvable, bodyOfObject, samples)) {
+    if (-c.gap <= tolerance) continue;
+    Index a = samples.bodies[c.k], b = samples.bodies[c.l];
+    if (a > b) std::swap(a, b);
+    auto it = std::find_if(found.begin(), found.end(), [&](const Overlap& o) { return o.objectA == a && o.objectB == b; });
+    if (it == found.end()) found.push_back({a, b, -c.gap});
+    else it->depth = std::max(it->depth, -c.gap);
+  }
+  std::sort(found.begin(), found.end(),
+            [](const Overlap& x, const Overlap& y) { return std::tie(x.objectA, x.objectB) < std::tie(y.objectA, y.objectB); });
+  return found;
+}
+
+std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vector<char>& solvable,
+                                const std::vector<Index>& bodyOfObject, const BoundarySamples& samples, Real dt) {
+  std::vector<Contact> contacts = findContacts(bodies, solvable, bodyOfObject, samples);
   if (contacts.empty()) return 0;
 
   std::vector<Matrix3r> invInertia(bodies.size());
@@ -135,8 +162,10 @@ std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vecto
   for (int it = 0; it < kIterations; ++it)
     for (Contact& c : contacts) {
       const Vector3r relative = relativeVelocity(c);
-      // Closing speed allowed: the gap left (>= 0), or a bounded push-out speed once overlapping.
-      const Real target = c.gap >= 0 ? -c.gap / dt : -kPushOutRate * c.gap / dt;
+      // Closing speed allowed: the gap left (>= 0), or a bounded push-out speed once overlapping:
+      // a fraction of the overlap per step, and never faster than kMaxPushOutSpeed, so a deep
+      // overlap (bodies drawn into each other) comes apart gently instead of at overlap / dt.
+      const Real target = c.gap >= 0 ? -c.gap / dt : std::min(-kPushOutRate * c.gap / dt, kMaxPushOutSpeed);
       const Real updated =
           std::max(c.impulse + (target - relative.dot(c.normal)) / inverseMassAlong(c, c.normal), Real(0));
       const Real delta = updated - c.impulse;

@@ -1,5 +1,7 @@
 // Interface of non-pressure forces (viscosity, vorticity, drag, surface tension, ...).
 #pragma once
+#include <limits>
+
 #include "Simulation/StepContext.h"
 
 namespace consph {
@@ -11,6 +13,9 @@ class NonPressureForce {
   // the forces before this one in scene order). Runs before the pressure solve, with the
   // densities of this step; ctx.dt is the previous step's until the CFL step is chosen.
   virtual void addAccelerations(StepContext& ctx) = 0;
+  // The largest time step at which this force stays stable, s (an explicit diffusion's limit);
+  // infinity when it sets none. Bounds the default maximum step (Simulation's timeStepCap).
+  virtual Real maxStableTimeStep(const CubicSplineKernel&) const { return std::numeric_limits<Real>::infinity(); }
 };
 
 }  // namespace consph

@@ -7,6 +7,7 @@
 
 #include "Simulation/JsonLimits.h"
 #include "Utilities/Error.h"
+#include "Utilities/MeshClosure.h"
 
 namespace consph {
 
@@ -225,6 +226,14 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
     }
   } else {
     o.mesh = loadMesh(resolvePath(baseDir, p.string("mesh")));
+    if (o.motion == BodyMotion::Dynamic) {
+      // Mass, centre of mass and inertia come from the divergence theorem over the surface,
+      // which holds for a closed surface only (an open one still gives a volume, a wrong one).
+      const MeshClosure closure = checkClosure(o.mesh);
+      if (!closure.closed())
+        throw InputError(at(path, "mesh") + ": a dynamic body needs a closed mesh, and '" + p.string("mesh") + "' has " +
+                         closure.describe() + ": its volume, centre of mass and inertia would be wrong");
+    }
     if (o.inverted)
       for (auto& t : o.mesh.triangles) std::swap(t[1], t[2]);
   }
@@ -290,7 +299,9 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
              {"gravity", ParamType::Vector3, json::array({0, -9.81, 0}), "gravitational acceleration, m/s^2"},
              {"cflFactor", ParamType::Real, 1.0, "dt = cflFactor 0.4 (2r) / max|v|", 1e-3, 10},
              {"minTimeStep", ParamType::Real, 1e-4, "lower bound of the adaptive time step, s", 1e-8, 1},
-             {"maxTimeStep", ParamType::Real, 0.005, "upper bound of the adaptive time step, s", 1e-8, 1},
+             {"maxTimeStep", ParamType::Real, 0.005,
+              "upper bound of the adaptive time step, s; when not given: min(0.005, CFL step at the scene's speed scale sqrt(v0^2 + 2 g H), 0.125 h^2 / nu of an explicit viscosity)",
+              1e-8, 1},
              {"initialTimeStep", ParamType::Real, 0.001, "time step of the first step, s", 1e-8, 1},
              {"stopAt", ParamType::Real, 1.0, "simulated end time, s", 0, 1e9},
              {"particleSpacing", ParamType::Real, 1.8566, "lattice spacing of fluid blocks in particle radii r (particle volume = spacing^3); the default gives SPlisHSPlasH's volume 0.8 (2r)^3", 1.2, 3},
@@ -309,6 +320,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   s.cflFactor = sp.real("cflFactor");
   s.minTimeStep = sp.real("minTimeStep");
   s.maxTimeStep = sp.real("maxTimeStep");
+  s.maxTimeStepGiven = sp.isSet("maxTimeStep");
   s.initialTimeStep = sp.real("initialTimeStep");
   if (s.minTimeStep > s.maxTimeStep) throw InputError("simulation.minTimeStep: must not exceed simulation.maxTimeStep");
   s.stopAt = sp.real("stopAt");

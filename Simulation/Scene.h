@@ -43,6 +43,9 @@ struct SceneDescription {
   Real particleRadius = Real(0.025);
   Vector3r gravity = Vector3r(0, Real(-9.81), 0);
   Real cflFactor = 1, minTimeStep = Real(1e-4), maxTimeStep = Real(0.005), initialTimeStep = Real(0.001);
+  // Given in the scene: then maxTimeStep is the cap as it stands; otherwise the cap is
+  // min(maxTimeStep, the resolution's and the physics' bounds; Simulation's timeStepCap).
+  bool maxTimeStepGiven = false;
   Real stopAt = 1;
   Real particleSpacing = Real(1.8566);  // lattice spacing of fluid blocks, in particle radii (0.8^(1/3) 2)
   int sortInterval = 50;

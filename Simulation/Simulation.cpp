@@ -9,6 +9,7 @@
 #include "Boundary/MassProperties.h"
 #include "Utilities/LineFile.h"
 #include "Utilities/OutputFolder.h"
+#include "Boundary/RigidBodyGuard.h"
 #include "Utilities/Timer.h"
 #include "Utilities/VtkWriter.h"
 
@@ -77,6 +78,9 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
     domainMin_ -= margin;
     domainMax_ += margin;
   }
+  speedScale_ = sceneSpeedScale(scene_);
+  if (bodies_ && bodies_->hasDynamic()) guardBodies();
+  chooseTimeStepCap();
   if (!scene_.probes.empty()) {
     probes_ = std::make_unique<Probes>(scene_.probes, scene_.boundaries, kernel_.supportRadius(), scene_.gravity);
     if (!scene_.output.enabled)
@@ -98,6 +102,82 @@ ResourceEstimate Simulation::estimateResources(Real endTime) const {
   for (const EmitterDescription& em : scene_.fluids[0].emitters) e.fluidParticles += Emitter::estimateCapacity(em, d, endTime);
   e.boundary = boundaryModel_->estimate(scene_.boundaries, kernel_);
   return e;
+}
+
+void Simulation::chooseTimeStepCap() {
+  // A cap the user gave stands as it is.
+  timeStepCap_ = scene_.maxTimeStep;
+  if (scene_.maxTimeStepGiven) return;
+  // The CFL condition at the fastest speed the scene will reach, not only at today's: a column
+  // or a tank starts at rest (CFL: no bound), and its first steps at the constant cap (tuned
+  // for r = 0.025) overshoot at fine resolution before any speed shows (issue 15: a 1 m column at
+  // r = 0.006, a block filling its tank at r = 0.005 blew up). U: Simulation/SpeedScale.h.
+  std::ostringstream why;
+  why << "default maximum time step: min(" << scene_.maxTimeStep << " s";
+  if (speedScale_.speed > 0) {
+    const Real cfl = scene_.cflFactor * Real(0.4) * 2 * scene_.particleRadius / speedScale_.speed;
+    timeStepCap_ = std::min(timeStepCap_, cfl);
+    why << ", CFL at the speed scale " << speedScale_.speed << " m/s: " << cfl << " s";
+  }
+  // Explicit forces' own limits (Morris et al. 1997's viscous diffusion bound).
+  for (std::size_t i = 0; i < forces_.size(); ++i) {
+    const Real limit = forces_[i]->maxStableTimeStep(kernel_);
+    if (limit < std::numeric_limits<Real>::infinity()) {
+      timeStepCap_ = std::min(timeStepCap_, limit);
+      why << ", " << scene_.fluids[0].forces[i]["type"].get<std::string>() << " stability: " << limit << " s";
+    }
+  }
+  timeStepCap_ = std::max(timeStepCap_, scene_.minTimeStep);
+  why << ") = " << timeStepCap_ << " s (simulation.maxTimeStep sets it by hand)";
+  log_(LogLevel::Info, why.str());
+}
+
+void Simulation::guardBodies() {
+  // Where a body may go: the scene's domain, or the fluid's (the static objects' box) grown to
+  // hold everything at t = 0 (a body dropped from above a floor slab starts outside the slab's box).
+  bool has = hasDomain_;
+  Vector3r lo = domainMin_, hi = domainMax_;
+  if (hasDomain_ && !scene_.hasDomain) {
+    auto add = [&](const Vector3r& x) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    };
+    for (const FluidBlock& b : scene_.fluids[0].blocks) add(b.min), add(b.max);
+    for (const EmitterDescription& e : scene_.fluids[0].emitters) add(e.position);
+    for (const BoundaryObject& o : scene_.boundaries)
+      if (o.motion != BodyMotion::Static)
+        for (const Vector3r& x : o.mesh.vertices) add(x);
+    const Vector3r margin = Real(0.05) * (hi - lo) + Vector3r::Constant(kernel_.supportRadius());
+    lo -= margin;
+    hi += margin;
+  }
+  std::vector<std::string> labels;
+  for (const RigidBody& b : bodies_->bodies()) {
+    const BoundaryObject& o = scene_.boundaries[b.object];
+    labels.push_back(o.name.empty() ? o.path : "'" + o.name + "' (" + o.path + ")");
+  }
+  const RigidBodyGuard::Limits limits = RigidBodyGuard::limitsFor(speedScale_.speed, has, lo, hi);
+  bodyGuard_ = std::make_unique<RigidBodyGuard>(bodies_->bodies(), labels, limits);
+  {
+    std::ostringstream s;
+    s << "dynamic bodies stop the run beyond " << limits.maxSpeed << " m/s (" << RigidBodyGuard::kSpeedFactor
+      << " x the scene's speed scale " << speedScale_.speed << " m/s: fall height " << speedScale_.fallHeight
+      << " m, initial speed " << speedScale_.initialSpeed << " m/s)";
+    log_(LogLevel::Info, s.str());
+  }
+  // Bodies drawn into each other or into a wall: rigid contact pushes them apart at a bounded
+  // speed (RigidContact::kMaxPushOutSpeed); say so, since the scene is probably not what was meant.
+  // Layers closer than half a particle radius count as touching (sample grids do not line up).
+  for (const RigidContact::Overlap& o : bodies_->overlaps(boundaryModel_->samples(), Real(0.5) * scene_.particleRadius)) {
+    auto name = [&](Index object) {
+      const BoundaryObject& b = scene_.boundaries[object];
+      return b.name.empty() ? b.path : "'" + b.name + "' (" + b.path + ")";
+    };
+    std::ostringstream s;
+    s << name(o.objectA) << " and " << name(o.objectB) << " overlap by " << o.depth
+      << " m at t = 0: rigid contact pushes them apart at most " << RigidContact::kMaxPushOutSpeed << " m/s";
+    log_(LogLevel::Warning, s.str());
+  }
 }
 
 void Simulation::initializeFluid() {
@@ -367,16 +447,17 @@ void Simulation::computeNonPressureAccelerations(StepContext& ctx) {
 }
 
 void Simulation::updateTimeStep() {
-  // CFL: dt = cflFactor 0.4 (2r) / max |v + dt a|, clamped to [minTimeStep, maxTimeStep].
+  // CFL: dt = cflFactor 0.4 (2r) / max |v + dt a|, clamped to [minTimeStep, timeStepCap_]
+  // (maxTimeStep when given, else chooseTimeStepCap's bound).
   FluidModel& f = *fluid_;
   Real maxSpeed2 = 0;
   const Real dtOld = dt_;
 #pragma omp parallel for schedule(static) reduction(max : maxSpeed2)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i)
     maxSpeed2 = std::max(maxSpeed2, (f.velocities[i] + dtOld * f.accelerations[i]).squaredNorm());
-  Real dt = scene_.maxTimeStep;
+  Real dt = timeStepCap_;
   if (maxSpeed2 > 0) dt = scene_.cflFactor * Real(0.4) * 2 * scene_.particleRadius / std::sqrt(maxSpeed2);
-  dt_ = std::clamp(dt, scene_.minTimeStep, scene_.maxTimeStep);
+  dt_ = std::clamp(dt, scene_.minTimeStep, timeStepCap_);
 }
 
 void Simulation::integrate() {
@@ -408,6 +489,7 @@ void Simulation::checkState() {
       << "): it leaked through a boundary or the simulation blew up";
     throw SimulationError(s.str());
   }
+  if (bodyGuard_) bodyGuard_->check(bodies_->bodies(), stats_.steps, time_);
   if (stats_.consecutiveCapHits >= std::size_t(scene_.iterationCapSteps)) {
     std::ostringstream s;
     s << "step " << stats_.steps << ", t = " << time_ << " s: the pressure solver hit its iteration cap in "
@@ -540,7 +622,11 @@ void Simulation::exportFrame(const std::string& path) {
   writeFileAtomically(path, particlesToVtu(fluid_->fields(), fluid_->size()));
 }
 
-void Simulation::addForce(std::unique_ptr<NonPressureForce> force) { forces_.push_back(std::move(force)); }
+void Simulation::addForce(std::unique_ptr<NonPressureForce> force) {
+  // An added explicit force's own limit bounds the default cap too (a given maxTimeStep stands).
+  if (!scene_.maxTimeStepGiven) timeStepCap_ = std::max(std::min(timeStepCap_, force->maxStableTimeStep(kernel_)), scene_.minTimeStep);
+  forces_.push_back(std::move(force));
+}
 
 json Simulation::summary() const {
   const auto& s = stats_;
@@ -562,6 +648,7 @@ json Simulation::summary() const {
       {"averageDensityErrorPercent", 100.0 * s.densityErrorSum / errSamples},
       {"maxDensityErrorPercent", 100.0 * s.densityErrorMax},
       {"iterationCapHits", s.iterationCapHits},
+      {"maxTimeStep", timeStepCap_},
       {"particlesLost", s.particlesLost},
       {"particlesEmitted", s.particlesEmitted},
       {"particlesRemoved", s.particlesRemoved},

@@ -12,12 +12,14 @@
 #include "Simulation/Probes.h"
 #include "Simulation/ResourceEstimate.h"
 #include "Simulation/Scene.h"
+#include "Simulation/SpeedScale.h"
 #include "Utilities/Log.h"
 
 namespace consph {
 
 class VtkSeries;
 class LineFile;
+class RigidBodyGuard;
 
 // Accumulated figures of a run (the CLI's summary, Python's sim.summary()).
 struct SimulationStats {
@@ -61,6 +63,8 @@ class Simulation {
 
   Real time() const { return time_; }
   Real dt() const { return dt_; }
+  // The largest step the adaptive step may take, s (see chooseTimeStepCap).
+  Real timeStepCap() const { return timeStepCap_; }
   std::size_t stepCount() const { return stats_.steps; }
   FluidModel& fluid() { return *fluid_; }
   const FluidModel& fluid() const { return *fluid_; }
@@ -95,12 +99,20 @@ class Simulation {
   // The summary figures (the CLI prints them; --summary-json writes them).
   json summary() const;
 
+  // The scene's largest speed from its start state (Simulation/SpeedScale.h).
+  const SpeedScale& speedScale() const { return speedScale_; }
+
   // Domain outside which a particle counts as escaped (a blow-up).
   bool hasDomain() const { return hasDomain_; }
 
  private:
   ResourceEstimate estimateResources(Real endTime) const;
   void initializeFluid();
+  // The dynamic bodies' checks (speed, domain, NaN) and the warning for overlaps at t = 0.
+  void guardBodies();
+  // The cap of the adaptive step: maxTimeStep when the scene gives it, else the bound from the
+  // resolution and the physics (CFL at the speed scale, explicit forces' stability).
+  void chooseTimeStepCap();
   void dropParticlesInsideBodies();
   void emitParticles();
   void coupleRigidBodies(StepContext& ctx);
@@ -129,6 +141,8 @@ class Simulation {
   std::unique_ptr<VtkSeries> writer_, bodyWriter_;
   std::string bodyCsv_;  // every frame's body rows so far (rewritten atomically per frame)
   std::unique_ptr<RigidBodySystem> bodies_;
+  std::unique_ptr<RigidBodyGuard> bodyGuard_;  // null without dynamic bodies
+  SpeedScale speedScale_;                      // the scene's largest speed, from its start state
   std::vector<Vector3r> pairImpulses_;  // per fluid-boundary pair, this step (two-way coupling, probes)
   std::vector<Real>* averagedPressure_ = nullptr;  // the exported field "pressureAverage"
   std::unique_ptr<Probes> probes_;
@@ -138,7 +152,7 @@ class Simulation {
   Index nextId_ = 0;                    // id of the next emitted particle
   Real emittersEndTime_ = 0;            // the end time the emitters' budgets and the storage cover
 
-  Real time_ = 0, dt_ = 0, dtPrevious_ = 0;
+  Real time_ = 0, dt_ = 0, dtPrevious_ = 0, timeStepCap_ = 0;
   bool hasDomain_ = false;
   Vector3r domainMin_, domainMax_;
   std::size_t nextFrame_ = 0;

@@ -1,5 +1,8 @@
 #include "Plugins/Viscosity/Viscosity_Standard.h"
 
+#include <algorithm>
+#include <limits>
+
 #include "Plugins/Viscosity/ViscosityLaplacian.h"
 #include "Simulation/PluginRegistry.h"
 
@@ -20,6 +23,16 @@ std::vector<ParamSpec> Viscosity_Standard::parameters() {
 
 Viscosity_Standard::Viscosity_Standard(const Params& p)
     : viscosity_(p.real("viscosity")), boundaryViscosity_(p.real("boundaryViscosity")) {}
+
+Real Viscosity_Standard::maxStableTimeStep(const CubicSplineKernel& kernel) const {
+  // Morris, Fox, Zhu 1997, Section 2.3: dt <= 0.125 h^2 / nu for the explicit viscous term, h
+  // the smoothing length (their kernel's support is a multiple of h; the cubic spline's is 2h).
+  // The boundary term is explicit as well: the larger of the two viscosities sets it.
+  const Real nu = std::max(viscosity_, boundaryViscosity_);
+  if (nu <= 0) return std::numeric_limits<Real>::infinity();
+  const Real h = kernel.supportRadius() / 2;
+  return Real(0.125) * h * h / nu;
+}
 
 void Viscosity_Standard::addAccelerations(StepContext& ctx) {
   using namespace viscosity;

@@ -5,7 +5,8 @@
 // ViscosityLaplacian.h, with an optional boundary viscosity towards the boundary samples:
 //   a_i += nu (laplacian v)_i.
 // Parameters: `viscosity` nu and `boundaryViscosity` nu_b, kinematic viscosities in m^2/s.
-// Explicit: stable for nu dt / h^2 small; use Weiler2018 for very viscous fluids.
+// Explicit: stable for dt <= 0.125 h^2 / nu (Morris et al. 1997, Section 2.3, h the smoothing
+// length: half the cubic spline's support); use Weiler2018 for very viscous fluids.
 #pragma once
 #include "Simulation/NonPressureForce.h"
 #include "Simulation/Params.h"
@@ -16,6 +17,7 @@ class Viscosity_Standard final : public NonPressureForce {
  public:
   explicit Viscosity_Standard(const Params& params);
   void addAccelerations(StepContext& ctx) override;
+  Real maxStableTimeStep(const CubicSplineKernel& kernel) const override;
   static std::vector<ParamSpec> parameters();
 
  private:

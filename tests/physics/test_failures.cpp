@@ -63,7 +63,7 @@ TEST(Failures, IterationCapEveryStepStops) {
 }
 
 TEST(Cli, BlowUpKeepsFramesAndExitsNonZero) {
-  const std::string dir = tempDir("consph_cli_blowup");
+  const std::string dir = test::tempDir("consph_cli_blowup");
   json scene = tinyScene();
   // An explicit solver with a far too soft equation of state and big steps: particles fall
   // through the floor and leave the domain.
@@ -72,7 +72,7 @@ TEST(Cli, BlowUpKeepsFramesAndExitsNonZero) {
   scene["simulation"]["maxTimeStep"] = 0.01;
   scene["output"] = {{"fps", 100}};
   std::ofstream(dir + "/scene.json") << scene.dump();
-  const auto r = runCommand(std::string(CONSPH_BINARY) + " " + dir + "/scene.json --quiet --stop-at 5 --output-dir " + dir + "/out");
+  const auto r = test::runCommand(std::string(CONSPH_BINARY) + " " + dir + "/scene.json --quiet --stop-at 5 --output-dir " + dir + "/out");
   EXPECT_EQ(r.status, 3) << r.output;
   EXPECT_NE(r.output.find("left the domain"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("frames written so far are kept"), std::string::npos) << r.output;
@@ -86,9 +86,9 @@ TEST(Cli, BlowUpKeepsFramesAndExitsNonZero) {
 }
 
 TEST(Cli, BadInputIsOneLineAndNonZero) {
-  const std::string dir = tempDir("consph_cli_bad");
+  const std::string dir = test::tempDir("consph_cli_bad");
   std::ofstream(dir + "/bad.json") << "{\n \"fluids\": [1,]\n}\n";
-  auto r = runCommand(std::string(CONSPH_BINARY) + " " + dir + "/bad.json");
+  auto r = test::runCommand(std::string(CONSPH_BINARY) + " " + dir + "/bad.json");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("bad.json:2:"), std::string::npos) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
@@ -96,19 +96,19 @@ TEST(Cli, BadInputIsOneLineAndNonZero) {
   json scene = tinyScene();
   scene["simulation"]["pressureSolver"] = {{"type", "PCISPH"}};
   std::ofstream(dir + "/unknown.json") << scene.dump();
-  r = runCommand(std::string(CONSPH_BINARY) + " " + dir + "/unknown.json");
+  r = test::runCommand(std::string(CONSPH_BINARY) + " " + dir + "/unknown.json");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("unknown pressure solver 'PCISPH'; valid are: DFSPH"), std::string::npos) << r.output;
 
-  r = runCommand(std::string(CONSPH_BINARY) + " " + dir + "/missing.json");
+  r = test::runCommand(std::string(CONSPH_BINARY) + " " + dir + "/missing.json");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("cannot open scene file"), std::string::npos) << r.output;
 }
 
 TEST(Cli, SetOverridesAndSummaryJson) {
-  const std::string dir = tempDir("consph_cli_set");
+  const std::string dir = test::tempDir("consph_cli_set");
   std::ofstream(dir + "/scene.json") << tinyScene().dump();
-  const auto r = runCommand(std::string(CONSPH_BINARY) + " run " + dir + "/scene.json --quiet --no-output --stop-at 0.05" +
+  const auto r = test::runCommand(std::string(CONSPH_BINARY) + " run " + dir + "/scene.json --quiet --no-output --stop-at 0.05" +
                             " --set simulation.pressureSolver.maxError=0.02 --set fluids.0.density0=500" +
                             " --set simulation.maxTimeStep=0.001 --set simulation.minTimeStep=0.001 --threads 1" +
                             " --summary-json " + dir + "/summary.json");
@@ -126,7 +126,7 @@ TEST(Cli, SetOverridesAndSummaryJson) {
 }
 
 TEST(Cli, ListPluginsPrintsParameters) {
-  const auto r = runCommand(std::string(CONSPH_BINARY) + " --list-plugins");
+  const auto r = test::runCommand(std::string(CONSPH_BINARY) + " --list-plugins");
   EXPECT_EQ(r.status, 0);
   for (const char* text : {"DFSPH", "maxErrorDivergence", "WCSPH", "Akinci2012", "samplingDistance", "StandardViscosity"})
     EXPECT_NE(r.output.find(text), std::string::npos) << text;

@@ -1,0 +1,53 @@
+#include "Boundary/RigidBodyGuard.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "Utilities/Error.h"
+
+namespace consph {
+
+RigidBodyGuard::Limits RigidBodyGuard::limitsFor(Real speedScale, bool hasDomain, const Vector3r& domainMin,
+                                                 const Vector3r& domainMax) {
+  Limits l;
+  l.maxSpeed = kSpeedFactor * std::max(speedScale, kMinSpeedScale);
+  l.hasDomain = hasDomain;
+  l.domainMin = domainMin;
+  l.domainMax = domainMax;
+  return l;
+}
+
+RigidBodyGuard::RigidBodyGuard(const std::vector<RigidBody>& bodies, std::vector<std::string> labels, const Limits& limits)
+    : labels_(std::move(labels)), limits_(limits) {
+  for (const RigidBody& b : bodies) {
+    Real r = 0;
+    for (const Vector3r& v : b.localMesh.vertices) r = std::max(r, v.norm());
+    radius_.push_back(r);
+  }
+}
+
+void RigidBodyGuard::check(const std::vector<RigidBody>& bodies, std::size_t step, Real time) const {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const RigidBody& b = bodies[i];
+    if (b.motion != BodyMotion::Dynamic) continue;  // animated bodies move as prescribed
+    std::ostringstream s;
+    s << "step " << step << ", t = " << time << " s: dynamic body " << labels_[i];
+    if (!b.x.allFinite() || !b.v.allFinite() || !b.w.allFinite() || !b.q.coeffs().allFinite())
+      throw SimulationError(s.str() + " has a non-finite position, orientation or velocity (NaN/inf): the simulation blew up");
+    const Real speed = b.v.norm() + b.w.norm() * radius_[i];
+    if (speed > limits_.maxSpeed) {
+      s << " moves at " << speed << " m/s (|v| + |w| R, v = " << b.v.norm() << " m/s, w = " << b.w.norm()
+        << " rad/s), beyond the scene's bound of " << limits_.maxSpeed << " m/s (" << kSpeedFactor
+        << " x its speed scale sqrt(v0^2 + 2 g H)): the body blew up (a body much lighter or heavier than the fluid"
+           " needs a smaller time step)";
+      throw SimulationError(s.str());
+    }
+    if (limits_.hasDomain && ((b.x - limits_.domainMin).minCoeff() < 0 || (limits_.domainMax - b.x).minCoeff() < 0)) {
+      s << " left the domain: its centre of mass is at (" << b.x[0] << ", " << b.x[1] << ", " << b.x[2]
+        << "): it passed through a boundary or the simulation blew up";
+      throw SimulationError(s.str());
+    }
+  }
+}
+
+}  // namespace consph
