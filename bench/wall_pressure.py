@@ -206,6 +206,10 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--n", type=int, default=10, help="tank columns per side (layers: 2n)")
     ap.add_argument("--quick", action="store_true", help="DFSPH only")
+    ap.add_argument("--models", default=",".join(MODELS), help="comma-separated boundary models")
+    ap.add_argument("--treatments", default=",".join(TREATMENTS + ["auto"]), help="comma-separated treatments")
+    ap.add_argument("--cases", default="tank,box,jet", help="comma-separated cases")
+    ap.add_argument("--build", default="build", help="build folder whose python/ module to run")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
@@ -213,8 +217,9 @@ def main():
         print(json.dumps(measure(case, solver, model, treatment, args.n, args.threads)))
         return
     solvers = ["DFSPH"] if args.quick else SOLVERS
-    combos = [(c, s, m, t) for s in solvers for m in MODELS for t in TREATMENTS + ["auto"] for c in ("tank", "box", "jet")]
-    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "build", "python"), OMP_NUM_THREADS=str(args.threads))
+    combos = [(c, s, m, t) for s in solvers for m in args.models.split(",") for t in args.treatments.split(",")
+              for c in args.cases.split(",")]
+    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, args.build, "python"), OMP_NUM_THREADS=str(args.threads))
 
     def run(combo):
         cmd = [sys.executable, __file__, "--child", ",".join(combo), "--n", str(args.n), "--threads", str(args.threads)]
@@ -237,7 +242,8 @@ def main():
     for key, r in results.items():
         s, m, t = key.split("_")
         if "rms_raw" not in r:
-            lines.append(f"| {s} | {m} | {t} | failed: {r.get('error', '?')} |")
+            lines.append(f"| {s} | {m} | {t} | {r.get('error', 'tank not run')} | | | | | | | | | "
+                         f"{r.get('buoyancy', float('nan')):.3f} | {r.get('jet', float('nan')):.3f} | |")
             continue
         name = t if t != "auto" else f"auto ({r['resolved_treatment']})"
         lines.append(f"| {s} | {m} | {name} | {r['rms_raw']:.1f} / {r['rms_shepard']:.1f} | {r['slope']:.3f} | "
