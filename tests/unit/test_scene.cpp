@@ -110,7 +110,7 @@ TEST(Scene, UnknownKeyWarningsListEveryKnownKey) {
       if (w.find("unknown key '" + key + "'") != std::string::npos) return w;
     return std::string("(none)");
   };
-  EXPECT_NE(warningFor("nmae").find("(known: name, description, simulation, fluids, boundaries, output)"), std::string::npos)
+  EXPECT_NE(warningFor("nmae").find("(known: name, description, simulation, fluids, boundaries, probes, output)"), std::string::npos)
       << warningFor("nmae");
   EXPECT_NE(warningFor("fluids[0].blcoks").find("(known: name, density0, forces, blocks, emitters, removeOutside)"), std::string::npos)
       << warningFor("fluids[0].blcoks");
