@@ -1,7 +1,6 @@
 #include "Simulation/Probes.h"
 
 #include <Eigen/Geometry>
-#include <omp.h>
 
 #include <cmath>
 #include <limits>
