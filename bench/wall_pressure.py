@@ -19,8 +19,8 @@ combination:
                            of the fluid as it lies (= rho0 g H^2 w / 2 at density rho0);
   held box a static 0.2 m cube held at mid-depth in a 0.6 x 0.8 x 0.6 m tank (r = 0.02 m):
              fluid force on it / rho0 V g, means over 1.5-2 s;
-  jet      a 2 m/s jet without gravity onto a plate (r = 0.01 m): plate force / (mdot U), means
-           over 0.3-0.6 s.
+  jet      a 2 m/s round jet (radius 0.04 m, r = 0.005 m, nu = 1e-3 m^2/s) without gravity onto a
+           plate: plate force / (mdot U), means over 0.3-0.6 s.
 Prints a markdown table (machine, threads, precision in its header), writes it to
 bench/results/wall_pressure.md and p(depth) PNGs (raw and Shepard) to
 bench/results/wall_pressure_<solver>_<model>_<treatment>.png.
@@ -87,18 +87,22 @@ def box_scene(solver, model, treatment):
 
 
 def jet_scene(solver, model, treatment):
-    # A 2 m/s round jet (radius 0.04 m, r = 0.01 m) without gravity onto a plate 0.2 m away;
-    # particles that leave the plate's neighbourhood are removed.
+    # A 2 m/s round jet (radius a = 0.04 m, 8 particles across: r = a / 8) without gravity onto a
+    # plate 5a away, nu = 1e-3 m^2/s (Re = U a / nu = 80); particles 6a off the axis are removed.
+    # The same jet as the test Jet.PlateForceIsTheMomentumFlux. (Before 2026-12-01 this case ran
+    # r = a / 4 and nu = 0.01, Re = 8: the fluid piled up on the plate and splashed back, 1.14-1.30.)
+    a = 0.04
+    rm = 6 * a
     return {
         "name": "Jet",
-        "simulation": {"particleRadius": 0.01, "gravity": [0, 0, 0], "stopAt": 0.6, "boundaryPressure": treatment,
+        "simulation": {"particleRadius": a / 8, "gravity": [0, 0, 0], "stopAt": 0.6, "boundaryPressure": treatment,
                        "boundaryModel": {"type": model}, "pressureSolver": {"type": solver},
                        "domain": {"min": [-1, -1, -1], "max": [1, 1, 1]}},
-        "fluids": [{"name": "water", "forces": [{"type": "StandardViscosity", "viscosity": 0.01}],
-                    "emitters": [{"shape": "circle", "position": [0, 0.2, 0], "direction": [0, -1, 0], "speed": 2.0,
-                                  "radius": 0.04}],
-                    "removeOutside": {"min": [-0.2, -0.1, -0.2], "max": [0.2, 0.5, 0.2]}}],
-        "boundaries": [{"name": "plate", "box": {"min": [-0.3, -0.05, -0.3], "max": [0.3, 0, 0.3]}}],
+        "fluids": [{"name": "water", "forces": [{"type": "StandardViscosity", "viscosity": 0.001}],
+                    "emitters": [{"shape": "circle", "position": [0, 5 * a, 0], "direction": [0, -1, 0], "speed": 2.0,
+                                  "radius": a}],
+                    "removeOutside": {"min": [-rm, -0.1, -rm], "max": [rm, 5 * a + 0.3, rm]}}],
+        "boundaries": [{"name": "plate", "box": {"min": [-rm - 0.1, -0.05, -rm - 0.1], "max": [rm + 0.1, 0, rm + 0.1]}}],
         "probes": [{"name": "plate", "kind": "force", "boundary": "plate"}],
         "output": {"enabled": False},
     }
