@@ -22,7 +22,7 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
   fluid_ = std::make_unique<FluidModel>(fd.name, fd.density0);
   averagedPressure_ = &fluid_->fields().add<Real>("pressureAverage", FieldSorted | FieldExported, Real(0));
   const PluginContext context{fluid_.get(), scene_.particleRadius, kernel_.supportRadius(), log_,
-                              scene_.particleSpacing * scene_.particleRadius};
+                              scene_.particleSpacing * scene_.particleRadius, scene_.baseDir};
   boundaryModel_ = plugins_.boundaryModels.create(scene_.boundaryModel["type"].get<std::string>(), scene_.boundaryModel,
                                                   "simulation.boundaryModel", context, log_);
   // Before anything is allocated: refuse what cannot fit, with the estimate.
