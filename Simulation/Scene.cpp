@@ -399,9 +399,14 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
       Params bp2(blocks[b], bpth,
                  {{"min", ParamType::Vector3, json(), "lower corner, m"},
                   {"max", ParamType::Vector3, json(), "upper corner, m"},
-                  {"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity, m/s"}},
+                  {"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity, m/s"},
+                  {"lattice", ParamType::String, "cellCentred",
+                   "lattice the block is filled on: cellCentred (particleSpacing r) or SPlisHSPlasH's denseMode 0, 1, 2 "
+                   "(splishsplashRegular: 2r grid, splishsplashMoreDense, splishsplashDense)",
+                   -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                   std::vector<std::string>(blockLatticeNames().begin(), blockLatticeNames().end())}},
                  log, {});
-      FluidBlock block{bp2.vector3("min"), bp2.vector3("max"), bp2.vector3("velocity")};
+      FluidBlock block{bp2.vector3("min"), bp2.vector3("max"), bp2.vector3("velocity"), blockLatticeFromName(bp2.string("lattice"))};
       if ((block.max - block.min).minCoeff() <= 0) throw InputError(bpth + ": max must exceed min on every axis");
       fd.blocks.push_back(block);
     }

@@ -6,16 +6,12 @@
 
 #include "Simulation/BoundaryModel.h"
 #include "Simulation/Emitter.h"
+#include "Simulation/FluidBlock.h"
 #include "Simulation/Params.h"
 #include "Simulation/Probes.h"
 #include "Simulation/StepContext.h"
 
 namespace consph {
-
-struct FluidBlock {
-  Vector3r min, max;  // m, the block is filled on a cubic lattice of spacing 2r
-  Vector3r velocity;  // initial velocity, m/s
-};
 
 struct FluidDescription {
   std::string name;
