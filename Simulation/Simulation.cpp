@@ -99,6 +99,7 @@ ResourceEstimate Simulation::estimateResources(Real endTime) const {
     const auto n = blockCounts(b, d, scene_.particleRadius);
     e.fluidParticles += n[0] * n[1] * n[2];
   }
+  e.fluidParticles += double(scene_.fluids[0].sourcePositions.size());
   for (const EmitterDescription& em : scene_.fluids[0].emitters) e.fluidParticles += Emitter::estimateCapacity(em, d, endTime);
   e.boundary = boundaryModel_->estimate(scene_.boundaries, kernel_);
   return e;
@@ -143,6 +144,7 @@ void Simulation::guardBodies() {
       hi = hi.cwiseMax(x);
     };
     for (const FluidBlock& b : scene_.fluids[0].blocks) add(b.min), add(b.max);
+    for (const Vector3r& x : scene_.fluids[0].sourcePositions) add(x);
     for (const EmitterDescription& e : scene_.fluids[0].emitters) add(e.position);
     for (const BoundaryObject& o : scene_.boundaries)
       if (o.motion != BodyMotion::Static)
@@ -195,6 +197,10 @@ void Simulation::initializeFluid() {
     sampleBlock(b, d, r, x);
     v.resize(x.size(), b.velocity);
   }
+  // Particles from point files and mesh volumes, sampled when the scene was read.
+  const FluidDescription& fd = scene_.fluids[0];
+  x.insert(x.end(), fd.sourcePositions.begin(), fd.sourcePositions.end());
+  v.insert(v.end(), fd.sourceVelocities.begin(), fd.sourceVelocities.end());
   FluidModel& f = *fluid_;
   // Emitters' budgets up front: no field reallocates later, so data pointers never move.
   if (!emitters_.empty()) {
