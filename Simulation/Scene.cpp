@@ -8,6 +8,7 @@
 
 #include "Simulation/JsonLimits.h"
 #include "Simulation/MeshVolumeSampling.h"
+#include "Simulation/SplishSplashScene.h"
 #include "Utilities/Error.h"
 #include "Utilities/MeshClosure.h"
 #include "Utilities/PointFile.h"
@@ -532,8 +533,24 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
 SceneDescription loadSceneFile(const std::string& path, const std::vector<std::pair<std::string, std::string>>& overrides,
                                const LogSink& log) {
   json scene = readJsonFile(path);
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  // A SPlisHSPlasH scene runs as the consph scene it maps to; --set addresses that scene's keys.
+  const bool splishsplash = isSplishSplashScene(scene);
+  if (splishsplash) {
+    if (log) log(LogLevel::Info, path + ": a SPlisHSPlasH scene, run as the consph scene it maps to (docs/splishsplash.md; consph convert writes it out)");
+    try {
+      scene = convertSplishSplashScene(scene, dir, dir, std::filesystem::path(path).stem().string(), log);
+    } catch (const InputError& e) {
+      throw InputError(path + ": " + e.what());
+    }
+  }
   for (auto& [key, value] : overrides) applyOverride(scene, key, value);
-  return parseScene(scene, std::filesystem::path(path).parent_path().string(), log);
+  if (!splishsplash) return parseScene(scene, dir, log);
+  try {
+    return parseScene(scene, dir, log);
+  } catch (const InputError& e) {
+    throw InputError(path + " (as the consph scene it maps to, see consph convert): " + e.what());
+  }
 }
 
 }  // namespace consph

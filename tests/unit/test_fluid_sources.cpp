@@ -1,11 +1,12 @@
 // A fluid that starts from a point file (fluids[].particleFiles) or from a closed mesh's volume
-// (fluids[].meshVolumes), with transforms.
+// (fluids[].meshVolumes), with transforms; and SPlisHSPlasH's FluidModels mapped to them.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <fstream>
 
 #include "CliUtil.h"
+#include "Simulation/SplishSplashScene.h"
 #include "TestUtil.h"
 
 using namespace consph;
@@ -103,4 +104,41 @@ TEST(FluidSources, OpenMeshesAndEmptyVolumesAreRefused) {
   EXPECT_NE(test::sceneErrorOf(scene).find("no lattice point lies inside the mesh"), std::string::npos) << test::sceneErrorOf(scene);
   scene = sceneWith({{"meshVolumes", {{{"mesh", "../meshes/UnitBox.obj"}, {"lattice", "splishsplashDense"}}}}});
   EXPECT_NE(test::sceneErrorOf(scene).find("fluids[0].meshVolumes[0].lattice"), std::string::npos) << test::sceneErrorOf(scene);
+}
+
+TEST(FluidSources, SplishSplashFluidModelsMapAndRun) {
+  // A particle file (partio's sphere.bgeo) and a closed mesh, as SPlisHSPlasH tells them apart.
+  json splishsplash = json::parse(R"({
+    "Configuration": {"particleRadius": 0.025, "boundaryHandlingMethod": 0},
+    "FluidModels": [
+      {"particleFile": "../models/sphere.bgeo", "translation": [0, 1, 0], "scale": [0.5, 0.5, 0.5], "initialVelocity": [0, -1, 0]},
+      {"particleFile": "../models/UnitBox.obj", "translation": [0, 0.3, 0], "scale": [0.4, 0.4, 0.4], "resolutionSDF": [20, 20, 20]}
+    ],
+    "RigidBodies": [{"geometryFile": "../models/UnitBox.obj", "translation": [0, 1, 0], "scale": [2, 2, 2], "mapInvert": true}]
+  })");
+  test::CapturedLog log;
+  const std::string scenes = test::dataPath("splishsplash/scenes");
+  json converted = convertSplishSplashScene(splishsplash, scenes, scenes, "models", log.sink());
+  const json& fluid = converted["fluids"][0];
+  EXPECT_EQ(fluid["particleFiles"][0]["file"], "../models/sphere.bgeo");
+  EXPECT_EQ(fluid["meshVolumes"][0]["lattice"], "splishsplashRegular");
+  ASSERT_EQ(log.warnings.size(), 1u);
+  EXPECT_NE(log.warnings[0].find("'resolutionSDF'"), std::string::npos) << log.warnings[0];
+  const SceneDescription s = parseScene(converted, scenes, log.sink());
+  const auto& x = s.fluids[0].sourcePositions;
+  // 12 394 points on a sphere of radius 0.5 about (0, 1, 0), then the box's 0.4 m cube: 8^3 voxel
+  // centres 2r apart from -0.2 + r.
+  ASSERT_EQ(x.size(), 12394u + 512u);
+  EXPECT_NEAR(double((x[0] - Vector3r(0, 1, 0)).norm()), 0.5, 0.01);
+  EXPECT_EQ(s.fluids[0].sourceVelocities[0], Vector3r(0, -1, 0));
+
+  // The mesh's volume alone runs in the tank (the sphere's samples are a surface, not a fluid).
+  splishsplash["FluidModels"].erase(0);
+  converted = convertSplishSplashScene(splishsplash, scenes, scenes, "models", log.sink());
+  converted["output"] = {{"enabled", false}};
+  Simulation sim(parseScene(converted, scenes, log.sink()), builtinPlugins(), log.sink());
+  ASSERT_EQ(sim.fluid().size(), 512u);
+  sim.run(Real(0.01));
+  EXPECT_GE(sim.stepCount(), 2u);
+  EXPECT_EQ(sim.fluid().size(), 512u);
 }
