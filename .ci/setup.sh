@@ -3,7 +3,7 @@
 # it again costs nothing. No PyPI, no downloads at build time.
 set -euo pipefail
 packages=(build-essential cmake ninja-build libeigen3-dev nlohmann-json3-dev libassimp-dev libgtest-dev
-          pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib)
+          pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib zlib1g-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
