@@ -11,12 +11,6 @@
 
 namespace consph {
 
-std::array<double, 3> latticeCounts(const FluidBlock& b, Real spacing) {
-  std::array<double, 3> n;
-  for (int a = 0; a < 3; ++a) n[a] = std::max(1.0, std::floor(double(b.max[a] - b.min[a]) / double(spacing) + 1e-4));
-  return n;
-}
-
 double defaultMaxParticles() {
   const double pages = double(sysconf(_SC_PHYS_PAGES)), pageSize = double(sysconf(_SC_PAGE_SIZE));
   const double memory = pages > 0 && pageSize > 0 ? pages * pageSize : 8e9;  // unknown: assume 8 GB

@@ -9,10 +9,9 @@
 #include <string>
 
 #include "Simulation/Common.h"
+#include "Simulation/FluidBlock.h"
 
 namespace consph {
-
-struct FluidBlock;
 
 // Memory of one fluid particle with its fields and neighbour lists. Measured: DamBreak at
 // r = 0.01 m against r = 0.02 m, 131 k more fluid particles and 337 k more boundary samples,
@@ -31,9 +30,6 @@ struct ResourceEstimate {
   BoundaryEstimate boundary;
   double bytes() const { return fluidParticles * kBytesPerFluidParticle + boundary.bytes; }
 };
-
-// Particles per axis of a fluid block on a lattice of spacing d (at least 1), in floating point.
-std::array<double, 3> latticeCounts(const FluidBlock& block, Real spacing);
 
 // The default of simulation.maxParticles: half this machine's physical memory, in fluid particles
 // of kBytesPerFluidParticle.

@@ -1,13 +1,17 @@
 #include "Simulation/Scene.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "Simulation/JsonLimits.h"
+#include "Simulation/MeshVolumeSampling.h"
+#include "Simulation/SplishSplashScene.h"
 #include "Utilities/Error.h"
 #include "Utilities/MeshClosure.h"
+#include "Utilities/PointFile.h"
 
 namespace consph {
 
@@ -134,6 +138,29 @@ std::string resolvePath(const std::string& baseDir, const std::string& file) {
   return p.lexically_normal().string();
 }
 
+// The transform keys a boundary, a particle file and a mesh volume share: x -> R (scale .* x) + t.
+struct PlacementKeys {
+  Vector3r translation, scale, axis;
+  Real angle;
+};
+const std::vector<ParamSpec>& placementSpecs() {
+  static const std::vector<ParamSpec> specs = {
+      {"translation", ParamType::Vector3, json::array({0, 0, 0}), "translation, m"},
+      {"rotationAxis", ParamType::Vector3, json::array({0, 0, 1}), "rotation axis"},
+      {"rotationAngle", ParamType::Real, 0.0, "rotation angle about rotationAxis, radians"},
+      {"scale", ParamType::Vector3, json::array({1, 1, 1}), "scale per axis, applied first"}};
+  return specs;
+}
+PlacementKeys placement(const Params& p) {
+  PlacementKeys k{p.vector3("translation"), p.vector3("scale"), p.vector3("rotationAxis"), p.real("rotationAngle")};
+  if (k.scale.cwiseAbs().minCoeff() == 0) throw InputError(p.pathOf("scale") + ": must not be 0 on any axis (the object would be flat)");
+  if (k.angle != 0 && k.axis.norm() == 0) throw InputError(p.pathOf("rotationAxis") + ": must not be the zero vector when rotationAngle is not 0");
+  return k;
+}
+Matrix3r rotationOf(const PlacementKeys& k) {
+  return k.angle == 0 ? Matrix3r::Identity() : Matrix3r(Eigen::AngleAxis<Real>(k.angle, k.axis.normalized()).toRotationMatrix());
+}
+
 // "dynamic", "density", "velocity", "angularVelocity", "animated" and "hinge" of a boundary.
 void parseBodyMotion(const json& b, const Params& p, BoundaryObject& o, const LogSink& log) {
   const std::string& path = o.path;
@@ -188,30 +215,26 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
   expectObject(b, path);
   const bool hasBox = b.contains("box"), hasMesh = b.contains("mesh");
   if (hasBox == hasMesh) throw InputError(path + ": give exactly one of \"box\" or \"mesh\"");
-  Params p(b, path,
-           {{"name", ParamType::String, "", "name of the object (for output and messages)"},
-            {"mesh", ParamType::String, "", "mesh file (OBJ, PLY, STL, ...), relative to the scene file"},
-            {"translation", ParamType::Vector3, json::array({0, 0, 0}), "translation, m"},
-            {"rotationAxis", ParamType::Vector3, json::array({0, 0, 1}), "rotation axis"},
-            {"rotationAngle", ParamType::Real, 0.0, "rotation angle about rotationAxis, radians"},
-            {"scale", ParamType::Vector3, json::array({1, 1, 1}), "scale per axis, applied first"},
-            {"inverted", ParamType::Bool, false, "the fluid is inside the object (a container)"},
+  std::vector<ParamSpec> specs = {{"name", ParamType::String, "", "name of the object (for output and messages)"},
+                                  {"mesh", ParamType::String, "", "mesh file (OBJ, PLY, STL, ...), relative to the scene file"}};
+  specs.insert(specs.end(), placementSpecs().begin(), placementSpecs().end());
+  specs.insert(specs.end(),
+           {{"inverted", ParamType::Bool, false, "the fluid is inside the object (a container)"},
             {"dynamic", ParamType::Bool, false, "a rigid body moved by gravity and the fluid (two-way coupling)"},
             {"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity of a dynamic body's centre of mass, m/s"},
             {"angularVelocity", ParamType::Vector3, json::array({0, 0, 0}), "initial angular velocity of a dynamic body, rad/s"},
             {"friction", ParamType::Real, 0.5,
-             "Coulomb friction coefficient in rigid contact (a pair of objects uses sqrt(mu_a mu_b); 0: frictionless)", 0, 10}},
-           log, {"box", "animated", "hinge", "density"});
+             "Coulomb friction coefficient in rigid contact (a pair of objects uses sqrt(mu_a mu_b); 0: frictionless)", 0, 10}});
+  Params p(b, path, specs, log, {"box", "animated", "hinge", "density"});
   BoundaryObject o;
   o.name = p.string("name");
   o.path = path;
   o.inverted = p.boolean("inverted");
   o.friction = p.real("friction");
   parseBodyMotion(b, p, o, log);
-  const Vector3r translation = p.vector3("translation"), scale = p.vector3("scale"), axis = p.vector3("rotationAxis");
-  const Real angle = p.real("rotationAngle");
-  if (scale.cwiseAbs().minCoeff() == 0) throw InputError(p.pathOf("scale") + ": must not be 0 on any axis (the object would be flat)");
-  if (angle != 0 && axis.norm() == 0) throw InputError(p.pathOf("rotationAxis") + ": must not be the zero vector when rotationAngle is not 0");
+  const PlacementKeys placed = placement(p);
+  const Vector3r translation = placed.translation, scale = placed.scale, axis = placed.axis;
+  const Real angle = placed.angle;
   if (hasBox) {
     Params box(b["box"], at(path, "box"),
                {{"min", ParamType::Vector3, json(), "lower corner, m"}, {"max", ParamType::Vector3, json(), "upper corner, m"}},
@@ -246,6 +269,64 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
   if (!finite || !(hi - lo).allFinite())
     throw InputError(path + ": the transformed object (scale, rotation, translation) has coordinates beyond the range of a number");
   return o;
+}
+
+// fluids[].particleFiles[]: particles read from a .ply, .vtu or .bgeo file, placed by the
+// transform; their velocities are the file's (rotated with them) unless "velocity" is given.
+void parseParticleFile(const json& e, const std::string& path, const std::string& baseDir, const LogSink& log, FluidDescription& fd) {
+  std::vector<ParamSpec> specs = placementSpecs();
+  specs.push_back({"file", ParamType::String, json(), "point file (.ply, .vtu, .bgeo), relative to the scene file"});
+  specs.push_back({"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity of every particle, m/s (not given: the file's, or 0)"});
+  Params p(e, path, specs, log, {});
+  const PlacementKeys k = placement(p);
+  const Matrix3r R = rotationOf(k);
+  const PointFile points = readPointFile(resolvePath(baseDir, p.string("file")));
+  if (points.positions.empty()) throw InputError(p.pathOf("file") + ": '" + p.string("file") + "' holds no particles");
+  for (std::size_t i = 0; i < points.positions.size(); ++i) {
+    const Vector3r x = R * points.positions[i].cwiseProduct(k.scale) + k.translation;
+    if (!x.allFinite()) throw InputError(path + ": the transformed particles have coordinates beyond the range of a number");
+    fd.sourcePositions.push_back(x);
+    fd.sourceVelocities.push_back(p.isSet("velocity") ? p.vector3("velocity")
+                                  : points.velocities.empty() ? Vector3r::Zero() : Vector3r(R * points.velocities[i]));
+  }
+}
+
+// fluids[].meshVolumes[]: the inside of a closed mesh filled on a lattice.
+void parseMeshVolume(const json& e, const std::string& path, const std::string& baseDir, Real spacing, Real radius, const LogSink& log,
+                     FluidDescription& fd) {
+  std::vector<ParamSpec> specs = placementSpecs();
+  specs.push_back({"mesh", ParamType::String, json(), "closed mesh (OBJ, PLY, STL, ...), relative to the scene file"});
+  specs.push_back({"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity, m/s"});
+  specs.push_back({"lattice", ParamType::String, "cellCentred",
+                   "cellCentred (particleSpacing r) or splishsplashRegular (SPlisHSPlasH's FluidModels sampling: 2r voxel centres)",
+                   -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"cellCentred", "splishsplashRegular"}});
+  Params p(e, path, specs, log, {});
+  const PlacementKeys k = placement(p);
+  TriangleMesh mesh = loadMesh(resolvePath(baseDir, p.string("mesh")));
+  const MeshClosure closure = checkClosure(mesh);
+  if (!closure.closed())
+    throw InputError(p.pathOf("mesh") + ": a fluid volume needs a closed mesh, and '" + p.string("mesh") + "' has " + closure.describe());
+  // consph's lattice is the world's, as a block's; SPlisHSPlasH samples the scaled mesh in its
+  // own frame and then rotates and moves the points.
+  const bool worldLattice = p.string("lattice") == "cellCentred";
+  if (worldLattice) transformMesh(mesh, k.scale, k.axis, k.angle, k.translation);
+  else transformMesh(mesh, k.scale, Vector3r::UnitZ(), 0, Vector3r::Zero());
+  Vector3r lo, hi;
+  mesh.boundingBox(lo, hi);
+  if (!(hi - lo).allFinite()) throw InputError(path + ": the transformed mesh has coordinates beyond the range of a number");
+  // Refused before sampling: the lattice over the box would not fit (a scale of 1e6).
+  const double step = worldLattice ? double(spacing) : 2 * double(radius);
+  double candidates = 1;
+  for (int a = 0; a < 3; ++a) candidates *= std::floor(double(hi[a] - lo[a]) / step) + 1;
+  if (candidates > 4e9) throw InputError(path + ": the mesh's box holds about " + std::to_string(candidates) + " lattice points, more than a 32-bit index");
+  std::vector<Vector3r> x = sampleMeshVolume(mesh, blockLatticeFromName(p.string("lattice")), spacing, radius);
+  if (x.empty()) throw InputError(p.pathOf("mesh") + ": no lattice point lies inside the mesh (is it smaller than a particle?)");
+  if (!worldLattice) {
+    const Matrix3r R = rotationOf(k);
+    for (Vector3r& point : x) point = R * point + k.translation;
+  }
+  fd.sourcePositions.insert(fd.sourcePositions.end(), x.begin(), x.end());
+  fd.sourceVelocities.resize(fd.sourcePositions.size(), p.vector3("velocity"));
 }
 
 EmitterDescription parseEmitter(const json& e, const std::string& path, const LogSink& log) {
@@ -365,7 +446,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
     Params fp(fluids[f], path,
               {{"name", ParamType::String, "fluid", "name of the fluid (output files, Python)"},
                {"density0", ParamType::Real, 1000.0, "rest density rho0, kg/m^3", 1e-3, 1e6}},
-              log, {"forces", "blocks", "emitters", "removeOutside"});
+              log, {"forces", "blocks", "emitters", "removeOutside", "particleFiles", "meshVolumes"});
     FluidDescription fd;
     fd.name = fp.string("name");
     checkFileName(fd.name, fp.pathOf("name"));
@@ -392,16 +473,31 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
       fd.removeMax = rp.vector3("max");
       if ((fd.removeMax - fd.removeMin).minCoeff() <= 0) throw InputError(path + ".removeOutside: max must exceed min on every axis");
     }
+    for (const char* key : {"particleFiles", "meshVolumes"}) {
+      const json& list = child(fluids[f], key);
+      if (!list.is_null() && !list.is_array()) throw InputError(path + "." + key + ": expected an array");
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::string ipath = path + "." + key + "[" + std::to_string(i) + "]";
+        if (std::string(key) == "particleFiles") parseParticleFile(list[i], ipath, baseDir, log, fd);
+        else parseMeshVolume(list[i], ipath, baseDir, s.particleSpacing * s.particleRadius, s.particleRadius, log, fd);
+      }
+    }
     if (!blocks.is_null() && !blocks.is_array()) throw InputError(path + ".blocks: expected an array of blocks");
-    if (blocks.empty() && fd.emitters.empty()) throw InputError(path + ".blocks: expected a non-empty array of blocks (or emitters)");
+    if (blocks.empty() && fd.emitters.empty() && fd.sourcePositions.empty())
+      throw InputError(path + ".blocks: expected a non-empty array of blocks (or emitters, particleFiles, meshVolumes)");
     for (std::size_t b = 0; b < blocks.size(); ++b) {
       const std::string bpth = path + ".blocks[" + std::to_string(b) + "]";
       Params bp2(blocks[b], bpth,
                  {{"min", ParamType::Vector3, json(), "lower corner, m"},
                   {"max", ParamType::Vector3, json(), "upper corner, m"},
-                  {"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity, m/s"}},
+                  {"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity, m/s"},
+                  {"lattice", ParamType::String, "cellCentred",
+                   "lattice the block is filled on: cellCentred (particleSpacing r) or SPlisHSPlasH's denseMode 0, 1, 2 "
+                   "(splishsplashRegular: 2r grid, splishsplashMoreDense, splishsplashDense)",
+                   -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                   std::vector<std::string>(blockLatticeNames().begin(), blockLatticeNames().end())}},
                  log, {});
-      FluidBlock block{bp2.vector3("min"), bp2.vector3("max"), bp2.vector3("velocity")};
+      FluidBlock block{bp2.vector3("min"), bp2.vector3("max"), bp2.vector3("velocity"), blockLatticeFromName(bp2.string("lattice"))};
       if ((block.max - block.min).minCoeff() <= 0) throw InputError(bpth + ": max must exceed min on every axis");
       fd.blocks.push_back(block);
     }
@@ -464,8 +560,24 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
 SceneDescription loadSceneFile(const std::string& path, const std::vector<std::pair<std::string, std::string>>& overrides,
                                const LogSink& log) {
   json scene = readJsonFile(path);
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  // A SPlisHSPlasH scene runs as the consph scene it maps to; --set addresses that scene's keys.
+  const bool splishsplash = isSplishSplashScene(scene);
+  if (splishsplash) {
+    if (log) log(LogLevel::Info, path + ": a SPlisHSPlasH scene, run as the consph scene it maps to (docs/splishsplash.md; consph convert writes it out)");
+    try {
+      scene = convertSplishSplashScene(scene, dir, dir, std::filesystem::path(path).stem().string(), log);
+    } catch (const InputError& e) {
+      throw InputError(path + ": " + e.what());
+    }
+  }
   for (auto& [key, value] : overrides) applyOverride(scene, key, value);
-  return parseScene(scene, std::filesystem::path(path).parent_path().string(), log);
+  if (!splishsplash) return parseScene(scene, dir, log);
+  try {
+    return parseScene(scene, dir, log);
+  } catch (const InputError& e) {
+    throw InputError(path + " (as the consph scene it maps to, see consph convert): " + e.what());
+  }
 }
 
 }  // namespace consph

@@ -6,6 +6,7 @@
 
 #include "Simulation/BoundaryModel.h"
 #include "Simulation/Emitter.h"
+#include "Simulation/FluidBlock.h"
 #include "Simulation/FrameFormat.h"
 #include "Simulation/Params.h"
 #include "Simulation/Probes.h"
@@ -14,17 +15,15 @@
 
 namespace consph {
 
-struct FluidBlock {
-  Vector3r min, max;  // m, the block is filled on a cubic lattice of spacing 2r
-  Vector3r velocity;  // initial velocity, m/s
-};
-
 struct FluidDescription {
   std::string name;
   Real density0;     // rest density rho0, kg/m^3
   json forces;       // array of plugin objects, applied in this order
   std::string path;  // JSON path of this fluid, for messages
   std::vector<FluidBlock> blocks;
+  // Particles from point files and closed meshes' volumes (particleFiles, meshVolumes), in
+  // world space, with their initial velocities.
+  std::vector<Vector3r> sourcePositions, sourceVelocities;
   std::vector<EmitterDescription> emitters;
   bool removeOutside = false;  // particles outside [removeMin, removeMax] are removed
   Vector3r removeMin = Vector3r::Zero(), removeMax = Vector3r::Zero();

@@ -102,9 +102,10 @@ ResourceEstimate Simulation::estimateResources(Real endTime) const {
   ResourceEstimate e;
   const Real d = scene_.particleSpacing * scene_.particleRadius;
   for (const FluidBlock& b : scene_.fluids[0].blocks) {
-    const auto n = latticeCounts(b, d);
+    const auto n = blockCounts(b, d, scene_.particleRadius);
     e.fluidParticles += n[0] * n[1] * n[2];
   }
+  e.fluidParticles += double(scene_.fluids[0].sourcePositions.size());
   for (const EmitterDescription& em : scene_.fluids[0].emitters) e.fluidParticles += Emitter::estimateCapacity(em, d, endTime);
   e.boundary = boundaryModel_->estimate(scene_.boundaries, kernel_);
   return e;
@@ -149,6 +150,7 @@ void Simulation::guardBodies() {
       hi = hi.cwiseMax(x);
     };
     for (const FluidBlock& b : scene_.fluids[0].blocks) add(b.min), add(b.max);
+    for (const Vector3r& x : scene_.fluids[0].sourcePositions) add(x);
     for (const EmitterDescription& e : scene_.fluids[0].emitters) add(e.position);
     for (const BoundaryObject& o : scene_.boundaries)
       if (o.motion != BodyMotion::Static)
@@ -191,20 +193,20 @@ void Simulation::initializeFluid() {
   // of volume d^3. The default d = 0.8^(1/3) 2r gives SPlisHSPlasH's particle volume 0.8 (2r)^3
   // and its settled neighbour count (~38), but the block starts at rest density instead of 20 %
   // under-dense. (With d = 2r, ~27 neighbours, the SPH density over-estimates a disordered
-  // fluid's mass density and a resting column's pressure gradient reads ~5 % low.)
+  // fluid's mass density and a resting column's pressure gradient reads ~5 % low.) A block on
+  // one of SPlisHSPlasH's lattices (an imported scene) keeps the mass rho0 d^3 per particle, and
+  // so SPlisHSPlasH's start.
   const Real r = scene_.particleRadius, d = scene_.particleSpacing * r;
   std::vector<Vector3r> x, v;
   for (const FluidBlock& b : scene_.fluids[0].blocks) {
     // Counted in floating point; refuseIfTooLarge has bounded their product by 2^32.
-    const auto count = latticeCounts(b, d);
-    const int n[3] = {int(count[0]), int(count[1]), int(count[2])};
-    for (int i = 0; i < n[0]; ++i)
-      for (int j = 0; j < n[1]; ++j)
-        for (int k = 0; k < n[2]; ++k) {
-          x.push_back(b.min + Vector3r(d * (i + Real(0.5)), d * (j + Real(0.5)), d * (k + Real(0.5))));
-          v.push_back(b.velocity);
-        }
+    sampleBlock(b, d, r, x);
+    v.resize(x.size(), b.velocity);
   }
+  // Particles from point files and mesh volumes, sampled when the scene was read.
+  const FluidDescription& fd = scene_.fluids[0];
+  x.insert(x.end(), fd.sourcePositions.begin(), fd.sourcePositions.end());
+  v.insert(v.end(), fd.sourceVelocities.begin(), fd.sourceVelocities.end());
   FluidModel& f = *fluid_;
   // Emitters' budgets up front: no field reallocates later, so data pointers never move.
   if (!emitters_.empty()) {

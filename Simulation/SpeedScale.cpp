@@ -23,6 +23,10 @@ SpeedScale sceneSpeedScale(const SceneDescription& scene) {
         moving(Vector3r(c & 1 ? b.max[0] : b.min[0], c & 2 ? b.max[1] : b.min[1], c & 4 ? b.max[2] : b.min[2]));
       v0 = std::max(v0, b.velocity.norm());
     }
+    for (std::size_t i = 0; i < f.sourcePositions.size(); ++i) {
+      moving(f.sourcePositions[i]);
+      v0 = std::max(v0, f.sourceVelocities[i].norm());
+    }
     for (const EmitterDescription& e : f.emitters) {
       moving(e.position);
       v0 = std::max(v0, e.speed);

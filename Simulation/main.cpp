@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "Simulation/Simulation.h"
+#include "Simulation/SplishSplashScene.h"
 #include "Utilities/Error.h"
 #include "Utilities/Progress.h"
 #include "Utilities/ThreadCount.h"
@@ -24,6 +25,8 @@ namespace {
 const char* kUsage =
     "usage: consph [run] [SCENE] [options]       run SCENE (default: data/scenes/DamBreak.json)\n"
     "       consph --list-plugins [--json]      list every plugin with its parameters\n"
+    "       consph convert IN.json OUT.json     write the consph scene a SPlisHSPlasH scene maps to (docs/splishsplash.md)\n"
+    "                                           (consph runs a SPlisHSPlasH scene as it is, too)\n"
     "options:\n"
     "  --stop-at T            simulated end time in seconds (default: the scene's simulation.stopAt)\n"
     "  --output-dir D         write frames to D (default: the scene's output.directory)\n"
@@ -147,10 +150,38 @@ Options parseArgs(int argc, char** argv) {
   return o;
 }
 
+// `consph convert IN OUT`: the consph scene equivalent to the SPlisHSPlasH scene IN, checked by
+// parsing it as consph would run it, then written to OUT with file names relative to OUT's folder.
+int convertScene(int argc, char** argv) {
+  if (argc != 4) throw InputError("convert: expected consph convert IN.json OUT.json");
+  const std::filesystem::path in(argv[2]), out(argv[3]);
+  const json scene = readJsonFile(in.string());
+  if (!isSplishSplashScene(scene))
+    throw InputError(in.string() + ": not a SPlisHSPlasH scene (it has none of Configuration, Materials, FluidBlocks, FluidModels, "
+                     "RigidBodies, Emitters, AnimationFields, or it has consph's \"fluids\")");
+  int warnings = 0;
+  const LogSink stderrLog = stderrLogSink(false);
+  const LogSink log = [&](LogLevel level, const std::string& text) {
+    warnings += level == LogLevel::Warning;
+    stderrLog(level, text);
+  };
+  json converted;
+  try {
+    converted = convertSplishSplashScene(scene, in.parent_path().string(), out.parent_path().string(), in.stem().string(), log);
+    parseScene(converted, out.parent_path().string(), [](LogLevel, const std::string&) {});
+  } catch (const InputError& e) {
+    throw InputError(in.string() + ": " + e.what());
+  }
+  writeFileAtomically(out.string(), converted.dump(2) + "\n");
+  std::fprintf(stderr, "consph: wrote %s (%d warning%s above)\n", out.string().c_str(), warnings, warnings == 1 ? "" : "s");
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   try {
+    if (argc > 1 && std::string(argv[1]) == "convert") return convertScene(argc, argv);
     Options o = parseArgs(argc, argv);
     if (o.listPlugins) {
       if (o.listJson) std::printf("%s\n", builtinPlugins().toJson().dump(2).c_str());

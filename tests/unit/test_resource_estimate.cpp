@@ -13,7 +13,7 @@ std::string errorOf(const json& scene) { return test::sceneErrorOf(scene); }
 }  // namespace
 
 TEST(SceneResourceEstimate, LatticeCountsAreFloatingPoint) {
-  const FluidBlock block{Vector3r(0, 0, 0), Vector3r(1e12, 1, 1), Vector3r::Zero()};
+  const FluidBlock block{Vector3r(0, 0, 0), Vector3r(1e12, 1, 1), Vector3r::Zero(), BlockLattice::CellCentred};
   const auto n = latticeCounts(block, Real(0.1));
   EXPECT_NEAR(n[0], 1e13, 1e4);  // int would have overflowed (UB: the run had 169 particles)
   EXPECT_EQ(n[1], 10);

@@ -112,7 +112,7 @@ TEST(Scene, UnknownKeyWarningsListEveryKnownKey) {
   };
   EXPECT_NE(warningFor("nmae").find("(known: name, description, simulation, fluids, boundaries, probes, output)"), std::string::npos)
       << warningFor("nmae");
-  EXPECT_NE(warningFor("fluids[0].blcoks").find("(known: name, density0, forces, blocks, emitters, removeOutside)"), std::string::npos)
+  EXPECT_NE(warningFor("fluids[0].blcoks").find("(known: name, density0, forces, blocks, emitters, removeOutside, particleFiles, meshVolumes)"), std::string::npos)
       << warningFor("fluids[0].blcoks");
   const std::string b = warningFor("boundaries[0].dinamic");
   for (const char* key : {"mesh", "box", "density", "animated", "hinge", "dynamic"}) EXPECT_NE(b.find(key), std::string::npos) << b;
