@@ -208,10 +208,10 @@ std::string RigidBodySystem::csvRows(Real time) const {
   return s.str();
 }
 
-std::string RigidBodySystem::meshesToVtu() const {
-  TriangleMesh all;
-  std::vector<Index> body;
-  std::vector<Vector3r> velocity;
+void RigidBodySystem::worldMeshes(TriangleMesh& all, std::vector<Index>& body, std::vector<Vector3r>& velocity) const {
+  all = TriangleMesh();
+  body.clear();
+  velocity.clear();
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const RigidBody& b = bodies_[i];
     const Matrix3r R = b.rotation();
@@ -223,6 +223,13 @@ std::string RigidBodySystem::meshesToVtu() const {
     }
     for (auto& t : b.localMesh.triangles) all.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
   }
+}
+
+std::string RigidBodySystem::meshesToVtu() const {
+  TriangleMesh all;
+  std::vector<Index> body;
+  std::vector<Vector3r> velocity;
+  worldMeshes(all, body, velocity);
   VtuPointCloud cloud(all.vertices.data(), all.vertices.size());
   cloud.setTriangles(all.triangles.data(), all.triangles.size());
   cloud.add("body", body.data());

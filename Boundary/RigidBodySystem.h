@@ -62,6 +62,8 @@ class RigidBodySystem {
   static std::string csvHeader();
   std::string csvRows(Real time) const;
   std::string meshesToVtu() const;
+  // Every body's surface where it is now: one mesh, each vertex's body (object index) and velocity.
+  void worldMeshes(TriangleMesh& mesh, std::vector<Index>& body, std::vector<Vector3r>& velocity) const;
 
  private:
   // Free dynamic bodies: not hinged (rigid contact moves these only).

@@ -1,6 +1,7 @@
 #include "Boundary/VolumeMap.h"
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -252,6 +253,43 @@ Real VolumeMap::restDistance(const CubicSplineKernel& kernel, Real r, Real spaci
   return consph::restDistance(halfLatticeDensity(kernel, spacing), kernel.supportRadius(), [&](Real y) {
     return halfSpaceVolume(kernel, y) * kernel.W(std::max(y + Real(0.5) * r, 2 * r));
   });
+}
+
+void VolumeMap::save(StateWriter& out) const {
+  out.put("origin", std::array<Real, 3>{origin_[0], origin_[1], origin_[2]});
+  out.put("cell", cell_);
+  out.put("h", h_);
+  out.put("dims", std::array<int, 3>{dims_[0], dims_[1], dims_[2]});
+  out.put("band", band_);
+  out.putVector("phi", phi_);
+  out.putVector("volume", volume_);
+  out.put("isBox", isBox_);
+  out.put("box", std::array<Real, 6>{boxMin_[0], boxMin_[1], boxMin_[2], boxMax_[0], boxMax_[1], boxMax_[2]});
+  out.put("fluidSign", fluidSign_);
+  out.put("offset", offset_);
+}
+
+std::unique_ptr<VolumeMap> VolumeMap::load(const StateReader& in) {
+  std::unique_ptr<VolumeMap> m(new VolumeMap());
+  const auto origin = in.get<std::array<Real, 3>>("origin");
+  m->origin_ = Vector3r(origin[0], origin[1], origin[2]);
+  m->cell_ = in.get<Real>("cell");
+  m->h_ = in.get<Real>("h");
+  const auto dims = in.get<std::array<int, 3>>("dims");
+  for (int a = 0; a < 3; ++a) m->dims_[a] = dims[std::size_t(a)];
+  m->band_ = in.get<Real>("band");
+  m->phi_ = in.getVector<Real>("phi");
+  m->volume_ = in.getVector<Real>("volume");
+  m->isBox_ = in.get<bool>("isBox");
+  const auto box = in.get<std::array<Real, 6>>("box");
+  m->boxMin_ = Vector3r(box[0], box[1], box[2]);
+  m->boxMax_ = Vector3r(box[3], box[4], box[5]);
+  m->fluidSign_ = in.get<Real>("fluidSign");
+  m->offset_ = in.get<Real>("offset");
+  const std::size_t nodes = std::size_t(m->dims_[0]) * std::size_t(m->dims_[1]) * std::size_t(m->dims_[2]);
+  if (m->phi_.size() != nodes || m->volume_.size() != nodes)
+    throw InputError(in.file() + ": the volume map's node arrays do not match its grid");
+  return m;
 }
 
 }  // namespace consph

@@ -13,10 +13,12 @@
 // part's mid-plane: the boundary model uses it to put the resting fluid's surface on the mesh.
 // Meshes must be closed (an open one has no inside: InputError).
 #pragma once
+#include <memory>
 #include <vector>
 
 #include "Simulation/BoundaryModel.h"
 #include "Simulation/Kernel.h"
+#include "Utilities/StateArchive.h"
 
 namespace consph {
 
@@ -40,10 +42,18 @@ class VolumeMap {
   Real distance(const Vector3r& x) const;
 
   std::size_t nodeCount() const { return phi_.size(); }
+  // The node values (Phi and V at every grid node, x fastest).
+  const std::vector<Real>& distances() const { return phi_; }
+  const std::vector<Real>& volumes() const { return volume_; }
+
+  // The whole map as blocks of a state file, and back (Boundary/VolumeMapCache.h stores maps so).
+  void save(StateWriter& out) const;
+  static std::unique_ptr<VolumeMap> load(const StateReader& in);
   // The offset applied: the requested one, less where the object is too thin for it.
   Real surfaceOffset() const { return offset_; }
 
  private:
+  VolumeMap() = default;
   std::size_t node(int i, int j, int k) const { return (std::size_t(k) * dims_[1] + j) * dims_[0] + i; }
   Vector3r position(int i, int j, int k) const { return origin_ + cell_ * Vector3r(Real(i), Real(j), Real(k)); }
   // Trilinear weights of x's cell (and the cell's fractions); false off the grid or in a cell

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 
 #include "Simulation/PluginRegistry.h"
@@ -19,7 +20,7 @@ const PluginRegistration<BoundaryModel> registration{
     VolumeMapBoundary_Bender2019::parameters(),
     [](const Params& p, const PluginContext& c) -> std::unique_ptr<BoundaryModel> {
       const Real spacing = c.particleSpacing > 0 ? c.particleSpacing : Real(1.8566) * c.particleRadius;
-      return std::make_unique<VolumeMapBoundary_Bender2019>(p, c.particleRadius, spacing, c.log);
+      return std::make_unique<VolumeMapBoundary_Bender2019>(p, c.particleRadius, spacing, c.log, c.sceneDirectory);
     }};
 }  // namespace
 
@@ -32,17 +33,23 @@ std::vector<ParamSpec> VolumeMapBoundary_Bender2019::parameters() {
           {"offsetObjects", ParamType::String, "auto",
            "which objects get the surface offset: auto (moving bodies, and static objects the initial fluid reaches: a "
            "block drawn up to a wall), all, or none",
-           -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"auto", "all", "none"}}};
+           -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"auto", "all", "none"}},
+          {"cache", ParamType::String, "cache",
+           "folder that keeps built maps for the next run (relative: to the scene file's folder); \"\": no cache"}};
 }
 
 VolumeMapBoundary_Bender2019::VolumeMapBoundary_Bender2019(const Params& params, Real particleRadius, Real fluidSpacing,
-                                                         const LogSink& log)
+                                                         const LogSink& log, const std::string& sceneDirectory)
     : particleRadius_(particleRadius),
       fluidSpacing_(fluidSpacing),
       cellSize_(params.real("cellSize") * particleRadius),
       requestedOffset_(params.real("surfaceOffset") < 0 ? Real(-1) : params.real("surfaceOffset") * particleRadius),
       offsetObjects_(params.string("offsetObjects")),
-      log_(log) {}
+      log_(log),
+      cache_(params.string("cache").empty() || sceneDirectory.empty() || std::filesystem::path(params.string("cache")).is_absolute()
+                 ? params.string("cache")
+                 : (std::filesystem::path(sceneDirectory) / params.string("cache")).string(),
+             log) {}
 
 BoundaryEstimate VolumeMapBoundary_Bender2019::estimate(const std::vector<BoundaryObject>& objects,
                                                       const CubicSplineKernel& kernel) const {
@@ -79,7 +86,7 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
     moving_[b] = o.motion != BodyMotion::Static;
     // A moving body's displaced volume is its buoyancy: its surface always moves ("auto").
     const bool always = offsetObjects_ == "all" || (offsetObjects_ == "auto" && moving_[b]);
-    auto map = std::make_unique<VolumeMap>(o, kernel, cellSize_, always ? offset : Real(0));
+    auto map = cache_.obtain(o, kernel, cellSize_, always ? offset : Real(0));
     // "auto": the initial fluid reaches the surface (a particle within 0.95 d: a block drawn up
     // to it, whose outer layer starts d/2 from it, well inside the resting distance).
     bool touched = false;
@@ -89,7 +96,7 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
 #pragma omp parallel for schedule(static) reduction(|| : touched)
       for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(fluid.size()); ++i)
         if (!touched && m.distance(fluid.positions[i]) < reach) touched = true;
-      if (touched) map = std::make_unique<VolumeMap>(o, kernel, cellSize_, offset);
+      if (touched) map = cache_.obtain(o, kernel, cellSize_, offset);
     }
     if (always || touched) {
       offsetNames += (offsetNames.empty() ? "" : ", ") + (o.name.empty() ? o.path : o.name);

@@ -27,6 +27,7 @@
 #include <memory>
 
 #include "Boundary/VolumeMap.h"
+#include "Boundary/VolumeMapCache.h"
 #include "Simulation/BoundaryModel.h"
 #include "Simulation/Params.h"
 
@@ -34,7 +35,9 @@ namespace consph {
 
 class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
  public:
-  VolumeMapBoundary_Bender2019(const Params& params, Real particleRadius, Real fluidSpacing, const LogSink& log);
+  // `sceneDirectory`: where a relative "cache" folder is.
+  VolumeMapBoundary_Bender2019(const Params& params, Real particleRadius, Real fluidSpacing, const LogSink& log,
+                               const std::string& sceneDirectory = "");
   void initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid, const CubicSplineKernel& kernel) override;
   BoundaryEstimate estimate(const std::vector<BoundaryObject>& objects, const CubicSplineKernel& kernel) const override;
   void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
@@ -43,6 +46,8 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
 
   static std::vector<ParamSpec> parameters();
   const VolumeMap& map(std::size_t object) const { return *maps_[object]; }
+  // Maps loaded from / built for the cache in the last initialize() (VolumeMapCache).
+  const VolumeMapCache& cache() const { return cache_; }
 
  private:
   // The virtual particle of object o for a fluid particle at x (position, mass and the pair's
@@ -57,6 +62,7 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   std::string offsetObjects_;  // "auto", "all" or "none"
   Real density0_ = 1000;
   LogSink log_;
+  VolumeMapCache cache_;
   std::vector<std::unique_ptr<VolumeMap>> maps_;
   std::vector<char> moving_;          // per object: dynamic or animated
   std::vector<ObjectPose> poses_;     // per object; identity for static ones

@@ -41,6 +41,18 @@ class Emitter {
   // Returns how many it emitted.
   std::size_t emit(FluidModel& fluid, Real time, Real dt, Index& nextId);
 
+  // What changes while it emits (checkpoints save and restore it).
+  struct State {
+    std::size_t maxLayers, layersEmitted;
+    Real pending;
+  };
+  State state() const { return {maxLayers_, layersEmitted_, pending_}; }
+  void setState(const State& s) {
+    maxLayers_ = s.maxLayers;
+    layersEmitted_ = s.layersEmitted;
+    pending_ = s.pending;
+  }
+
  private:
   // Lattice points across an extent, and layers emitted until min(end, stopAt), in floating point.
   static double pointsAcross(Real extent, Real spacing);

@@ -512,18 +512,45 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
 
   // output
   const json& out = child(scene, "output");
+  constexpr double inf = std::numeric_limits<double>::infinity();
   Params op(out, "output",
             {{"enabled", ParamType::Bool, true, "write frames"},
              {"directory", ParamType::String, "output", "output folder (relative to the working directory)"},
              {"fps", ParamType::Real, 25.0, "frames per simulated second", 1e-3, 1e6},
              {"probeFps", ParamType::Real, 0.0, "rows of probes.csv per simulated second (0: one per step)", 0, 1e9},
-             {"overwrite", ParamType::Bool, false, "clear another run's files (frames, .pvd, ...) from the folder instead of refusing it"}},
-            log, {});
+             {"overwrite", ParamType::Bool, false, "clear another run's files (frames, .pvd, ...) from the folder instead of refusing it"},
+             {"format", ParamType::String, "vtu", "frame files: vtu (ParaView), bgeo (Houdini, .bgeo.gz), ply (Blender)", -inf, inf,
+              {"vtu", "bgeo", "ply"}},
+             {"precision", ParamType::String, "float", "floating-point values in frames: float (float32) or double", -inf, inf,
+              {"float", "double"}},
+             {"bodies", ParamType::String, "auto", "moving bodies per frame: meshes, transforms (one point per body) or auto "
+              "(transforms for bgeo, meshes otherwise)", -inf, inf, {"auto", "meshes", "transforms"}},
+             {"checkpointInterval", ParamType::Real, 0.0, "simulated seconds between checkpoints (0: none)", 0, 1e9}},
+            log, {"attributes"});
   s.output.enabled = op.boolean("enabled");
   s.output.directory = op.string("directory");
   s.output.fps = op.real("fps");
   s.output.probeFps = op.real("probeFps");
   s.output.overwrite = op.boolean("overwrite");
+  s.output.format = frameFormatFromName(op.string("format"));
+  s.output.precision = op.string("precision") == "double" ? FramePrecision::Double : FramePrecision::Float;
+  const std::string bodies = op.string("bodies");
+  s.output.bodies = bodies == "meshes" || (bodies == "auto" && s.output.format != FrameFormat::Bgeo) ? BodyFrames::Meshes
+                                                                                                   : BodyFrames::Transforms;
+  if (s.output.format == FrameFormat::Bgeo && s.output.precision == FramePrecision::Double)
+    throw InputError("output.precision: \"double\" is not available with \"format\": \"bgeo\" (classic BGEO stores float32 only)");
+  if (s.output.format == FrameFormat::Bgeo && s.output.bodies == BodyFrames::Meshes)
+    throw InputError("output.bodies: \"meshes\" is not available with \"format\": \"bgeo\" (points only); use \"transforms\"");
+  s.output.checkpointInterval = op.real("checkpointInterval");
+  // The fields are registered when the simulation is built: it checks the names (checkAttributes).
+  if (out.is_object() && out.contains("attributes")) {
+    const json& a = out["attributes"];
+    if (!a.is_array()) throw InputError("output.attributes: expected an array of particle field names");
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (!a[i].is_string()) throw InputError("output.attributes[" + std::to_string(i) + "]: expected a particle field name (a string)");
+      s.output.attributes.push_back(a[i].get<std::string>());
+    }
+  }
 
   // probes (resolved against the boundaries when the simulation is built)
   s.probes = parseProbes(child(scene, "probes"), log);

@@ -7,9 +7,11 @@
 #include "Simulation/BoundaryModel.h"
 #include "Simulation/Emitter.h"
 #include "Simulation/FluidBlock.h"
+#include "Simulation/FrameFormat.h"
 #include "Simulation/Params.h"
 #include "Simulation/Probes.h"
 #include "Simulation/StepContext.h"
+#include "Utilities/PointTable.h"
 
 namespace consph {
 
@@ -33,6 +35,11 @@ struct OutputSettings {
   Real fps = 25;
   Real probeFps = 0;  // probe rows per simulated second; 0: every step
   bool overwrite = false;  // clear another run's files from the folder instead of refusing it
+  FrameFormat format = FrameFormat::Vtu;
+  std::vector<std::string> attributes;  // particle fields in each frame; empty: the exported ones
+  FramePrecision precision = FramePrecision::Float;
+  BodyFrames bodies = BodyFrames::Meshes;  // moving bodies per frame (BGEO: transforms)
+  Real checkpointInterval = 0;             // simulated seconds between checkpoints; 0: none
 };
 
 struct SceneDescription {
@@ -63,6 +70,9 @@ struct SceneDescription {
   std::vector<BoundaryObject> boundaries;
   std::vector<ProbeDescription> probes;
   OutputSettings output;
+  // A run option, not part of the scene file: the checkpoint the simulation continues from
+  // (consph --restart FILE); empty: it starts at t = 0.
+  std::string restartFrom;
 };
 
 // Reads a JSON file; malformed JSON -> InputError "FILE:LINE:COLUMN: ...".

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "Boundary/MassProperties.h"
+#include "Simulation/FrameSeries.h"
 #include "Utilities/LineFile.h"
 #include "Utilities/OutputFolder.h"
 #include "Boundary/RigidBodyGuard.h"
@@ -21,7 +22,7 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
   fluid_ = std::make_unique<FluidModel>(fd.name, fd.density0);
   averagedPressure_ = &fluid_->fields().add<Real>("pressureAverage", FieldSorted | FieldExported, Real(0));
   const PluginContext context{fluid_.get(), scene_.particleRadius, kernel_.supportRadius(), log_,
-                              scene_.particleSpacing * scene_.particleRadius};
+                              scene_.particleSpacing * scene_.particleRadius, scene_.baseDir};
   boundaryModel_ = plugins_.boundaryModels.create(scene_.boundaryModel["type"].get<std::string>(), scene_.boundaryModel,
                                                   "simulation.boundaryModel", context, log_);
   // Before anything is allocated: refuse what cannot fit, with the estimate.
@@ -87,6 +88,11 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
       log_(LogLevel::Info, "probes: output is off, so probes.csv is not written (the latest values are in the summary)");
   }
   dt_ = dtPrevious_ = scene_.initialTimeStep;
+  // Every plugin has registered its fields by now: the frames' attributes must name some.
+  checkAttributes(fluid_->fields(), scene_.output.attributes, "output.attributes");
+  if (!scene_.restartFrom.empty()) restoreCheckpoint(scene_.restartFrom);
+  if (scene_.output.checkpointInterval > 0 && !scene_.output.enabled)
+    log_(LogLevel::Warning, "output.checkpointInterval: output is off, so no checkpoints are written");
   if (scene_.output.enabled) setOutputDirectory(scene_.output.directory);
 }
 
@@ -374,6 +380,7 @@ void Simulation::step() {
   if (writer_) {
     ScopedTimer t(stats_.exportTime);
     writeFrameIfDue();
+    writeCheckpointIfDue();
   }
 }
 
@@ -503,17 +510,25 @@ void Simulation::checkState() {
 void Simulation::setOutputDirectory(const std::string& dir) {
   // A folder this simulation writes already is its own; any other must hold no other run's files.
   if (dir != ownedDirectory_) {
-    claimOutputFolder(dir, scene_.output.overwrite);
+    // A restarted run continues its own frames: the folder's earlier files are its own.
+    if (restarted_ && !scene_.output.overwrite) {
+      std::error_code ec;
+      std::filesystem::create_directories(dir, ec);
+      if (ec) throw OutputError("cannot create output folder '" + dir + "': " + ec.message());
+    } else {
+      claimOutputFolder(dir, scene_.output.overwrite);
+    }
     ownedDirectory_ = dir;
     // The scene as run (after --set and Python overrides) beside the frames.
     writeFileAtomically((std::filesystem::path(dir) / "scene.resolved.json").string(), scene_.raw.dump(2) + "\n");
   }
   scene_.output.directory = dir;
   scene_.output.enabled = true;
-  writer_ = std::make_unique<VtkSeries>(dir, fluid_->name());
+  const OutputSettings& o = scene_.output;
+  writer_ = std::make_unique<FrameSeries>(dir, fluid_->name(), o.format, o.precision);
   if (bodies_) {
-    bodyWriter_ = std::make_unique<VtkSeries>(dir, "bodies");
-    bodyCsv_ = RigidBodySystem::csvHeader();
+    bodyWriter_ = std::make_unique<FrameSeries>(dir, "bodies", o.format, o.precision);
+    if (bodyCsv_.empty()) bodyCsv_ = RigidBodySystem::csvHeader();
   }
   // The boundary once, for context in ParaView.
   const BoundarySamples& b = boundaryModel_->samples();
@@ -541,6 +556,13 @@ void Simulation::setOutputDirectory(const std::string& dir) {
     writeFileAtomically((std::filesystem::path(dir) / "boundary.vtu").string(), cloud.serialize());
   }
   nextFrame_ = std::size_t(std::ceil(time_ * scene_.output.fps - Real(1e-6)));
+  if (resumed_.pending && dir == resumed_.directory) {
+    // The restarted run's series go on where the checkpoint left them (frame numbers, .pvd, bodies.csv).
+    resumed_.pending = false;
+    writer_->setFrames(resumed_.frames);
+    if (bodyWriter_) bodyWriter_->setFrames(resumed_.bodyFrames), bodyCsv_ = resumed_.bodyCsv;
+    nextFrame_ = resumed_.nextFrame;
+  }
   if (probes_) {
     std::string header = "time";
     for (const std::string& c : probes_->columns()) header += "," + c;
@@ -564,10 +586,11 @@ void Simulation::writeFrameIfDue() {
   // A frame is due once the simulated time reaches index / fps (within half a step).
   if (time_ + Real(0.5) * dt_ < Real(nextFrame_) / scene_.output.fps) return;
   computeAveragedPressure();
-  writer_->write(nextFrame_, time_, particlesToVtu(fluid_->fields(), fluid_->size()));
+  const OutputSettings& o = scene_.output;
+  writer_->write(nextFrame_, time_, particleTable(fluid_->fields(), fluid_->size(), o.attributes, o.format));
   if (bodyWriter_) {
-    // The bodies' surfaces as a second series, and their state as one CSV row per body.
-    bodyWriter_->write(nextFrame_, time_, bodies_->meshesToVtu());
+    // The bodies (surfaces or poses) as a second series, and their state as one CSV row per body.
+    bodyWriter_->write(nextFrame_, time_, BodyFrame(*bodies_, o.bodies, o.format).table());
     bodyCsv_ += bodies_->csvRows(time_);
     writeFileAtomically((std::filesystem::path(scene_.output.directory) / "bodies.csv").string(), bodyCsv_);
   }
@@ -620,8 +643,12 @@ void Simulation::computeAveragedPressure() {
 }
 
 void Simulation::exportFrame(const std::string& path) {
+  bool compressed = false;
+  const FrameFormat format = frameFormatOfPath(path, compressed);
+  const FramePrecision precision = sizeof(Real) == 8 ? FramePrecision::Double : FramePrecision::Float;
   computeAveragedPressure();
-  writeFileAtomically(path, particlesToVtu(fluid_->fields(), fluid_->size()));
+  writeFileAtomically(path, serializeFrame(particleTable(fluid_->fields(), fluid_->size(), scene_.output.attributes, format), format,
+                                           precision, compressed));
 }
 
 void Simulation::addForce(std::unique_ptr<NonPressureForce> force) {

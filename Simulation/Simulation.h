@@ -17,7 +17,7 @@
 
 namespace consph {
 
-class VtkSeries;
+class FrameSeries;
 class LineFile;
 class RigidBodyGuard;
 
@@ -90,8 +90,22 @@ class Simulation {
   void setOutputDirectory(const std::string& dir);
   void setOutputEnabled(bool enabled);
   void setOutputFps(Real fps);
-  // Writes the current state to one .vtu file (atomically).
+  // Writes the current state to one frame file (atomically) in the format its extension names
+  // (.vtu, .ply, .bgeo, .bgeo.gz): the scene's output.attributes, at the build's precision (a
+  // snapshot; .bgeo is float32 always).
   void exportFrame(const std::string& path);
+
+  // Checkpoints (Simulation/Checkpoint.cpp): everything the next steps depend on (every
+  // registered particle field of the fluid, which holds the plugins' persistent state such as
+  // DFSPH's warm starts; the bodies; the emitters; time, step count and the time-step state), so
+  // that a restarted run continues bit for bit. Written atomically.
+  void saveCheckpoint(const std::string& path) const;
+  // Continues from a checkpoint of the same scene (the scene file may differ in output.* and
+  // simulation.stopAt only); InputError naming the first difference otherwise. Called before
+  // the first step (the constructor does it for scene.restartFrom).
+  void restoreCheckpoint(const std::string& path);
+  // The checkpoints written so far at output.checkpointInterval (OUTPUT/checkpoint_NNNNN.state).
+  std::size_t checkpointsWritten() const { return checkpointsWritten_; }
   // Fills the particle field "pressureAverage", the kernel average of the pressure over each
   // particle's neighbourhood (what to read as the pressure field); every frame does it itself.
   void computeAveragedPressure();
@@ -124,6 +138,7 @@ class Simulation {
   void integrate();
   void checkState();
   void writeFrameIfDue();
+  void writeCheckpointIfDue();
   void measureWallLoads(StepContext& ctx);
   void writeProbeRowIfDue();
   StepContext makeContext();
@@ -138,7 +153,7 @@ class Simulation {
   std::vector<std::unique_ptr<NonPressureForce>> forces_;
   PointGrid fluidGrid_;
   NeighborLists fluidNeighbors_, boundaryNeighbors_;
-  std::unique_ptr<VtkSeries> writer_, bodyWriter_;
+  std::unique_ptr<FrameSeries> writer_, bodyWriter_;
   std::string bodyCsv_;  // every frame's body rows so far (rewritten atomically per frame)
   std::unique_ptr<RigidBodySystem> bodies_;
   std::unique_ptr<RigidBodyGuard> bodyGuard_;  // null without dynamic bodies
@@ -156,6 +171,17 @@ class Simulation {
   bool hasDomain_ = false;
   Vector3r domainMin_, domainMax_;
   std::size_t nextFrame_ = 0;
+  std::size_t nextCheckpoint_ = 1;  // checkpoint k is due at t = k output.checkpointInterval
+  std::size_t checkpointsWritten_ = 0;
+  bool restarted_ = false;          // continued from a checkpoint: its output folder is its own
+  // A restarted run's frame lists and body rows as its checkpoint had them, for the first
+  // setOutputDirectory into the folder the checkpoint was written for.
+  struct ResumedOutput {
+    bool pending = false;
+    std::string directory, bodyCsv;
+    std::size_t nextFrame = 0;
+    std::vector<std::pair<double, std::string>> frames, bodyFrames;
+  } resumed_;
   std::string ownedDirectory_;  // the output folder claimed (claimOutputFolder) by this simulation
   SimulationStats stats_;
 };

@@ -1,5 +1,6 @@
 // Everything a plugin needs during one step, passed explicitly (no global simulation object).
 #pragma once
+#include <string>
 #include <cstddef>
 
 #include "Simulation/BoundarySamples.h"
@@ -41,6 +42,7 @@ struct PluginContext {
   Real supportRadius;
   const LogSink& log;
   Real particleSpacing = 0;  // m, the fluid lattice spacing d (particle volume d^3); 0: 0.8^(1/3) 2r
+  std::string sceneDirectory = {};  // the scene file's folder (relative paths a plugin writes, e.g. a cache)
 };
 
 }  // namespace consph

@@ -38,6 +38,7 @@ const char* kUsage =
     "                         2 KB per particle; the scene key simulation.maxParticles)\n"
     "  --set KEY.PATH=VALUE   override a scene value, e.g. --set simulation.pressureSolver.maxError=0.01\n"
     "  --summary-json FILE    write the run's summary as JSON (-: standard output, the table then goes to stderr)\n"
+    "  --restart FILE         continue from a checkpoint (output.checkpointInterval) of the same scene\n"
     "  --quiet                no progress, no summary table (warnings and errors still show)\n";
 
 std::string defaultScene() {
@@ -83,7 +84,7 @@ void onSignal(int signal) {
 struct Options {
   std::string scene;
   double stopAt = -1, fps = -1, maxParticles = -1;
-  std::string outputDir, summaryJson;
+  std::string outputDir, summaryJson, restart;
   bool noOutput = false, overwrite = false, quiet = false, listPlugins = false, listJson = false;
   long long threads = 0;
   std::vector<std::pair<std::string, std::string>> overrides;
@@ -138,6 +139,7 @@ Options parseArgs(int argc, char** argv) {
       if (eq == std::string::npos || eq == 0) throw InputError("--set: expected KEY.PATH=VALUE, got '" + kv + "'");
       o.overrides.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
     } else if (a == "--summary-json") o.summaryJson = need(i, "--summary-json");
+    else if (a == "--restart") o.restart = need(i, "--restart");
     else if (a == "--no-output") o.noOutput = true;
     else if (a == "--overwrite") o.overwrite = true;
     else if (a == "--quiet") o.quiet = true;
@@ -202,7 +204,9 @@ int main(int argc, char** argv) {
     if (!o.outputDir.empty()) o.overrides.emplace_back("output.directory", json(o.outputDir).dump());
     if (o.fps > 0) o.overrides.emplace_back("output.fps", json(o.fps).dump());
     if (o.maxParticles > 0) o.overrides.emplace_back("simulation.maxParticles", json(o.maxParticles).dump());
-    auto sim = loadSimulation(o.scene, o.overrides, log);
+    SceneDescription scene = loadSceneFile(o.scene, o.overrides, log);
+    scene.restartFrom = o.restart;
+    auto sim = std::make_unique<Simulation>(std::move(scene), builtinPlugins(), log);
 
     const double stopAt = o.stopAt >= 0 ? o.stopAt : double(sim->scene().stopAt);
     if (!o.quiet)

@@ -8,7 +8,7 @@
 namespace consph {
 
 bool isRunFile(const std::string& fileName) {
-  static const std::regex pattern(R"((.+_[0-9]{5}\.vtu|.+\.pvd|boundary\.vtu|bodies\.csv|probes\.csv|scene\.resolved\.json)(\.tmp)?)");
+  static const std::regex pattern(R"((.+_[0-9]{5}\.(vtu|ply|bgeo|bgeo\.gz)|.+\.pvd|boundary\.vtu|bodies\.csv|probes\.csv|scene\.resolved\.json|checkpoint_[0-9]{5}\.state)(\.tmp)?)");
   return std::regex_match(fileName, pattern);
 }
 

@@ -8,8 +8,9 @@
 
 namespace consph {
 
-// Files consph writes into an output folder: NAME_NNNNN.vtu frames, NAME.pvd series,
-// boundary.vtu, bodies.csv, scene.resolved.json, and the .tmp of any of them.
+// Files consph writes into an output folder: NAME_NNNNN.vtu / .ply / .bgeo / .bgeo.gz frames,
+// NAME.pvd series, boundary.vtu, bodies.csv, probes.csv, scene.resolved.json,
+// checkpoint_NNNNN.state, and the .tmp of any of them.
 bool isRunFile(const std::string& fileName);
 
 // The run files directly in `directory` (none when it does not exist), sorted: regular files

@@ -79,14 +79,27 @@ std::string VtuPointCloud::serialize() const {
     offset += sizeof(header) + bytes;
     return at;
   };
+  // A double build's Real arrays narrowed to float32 when a Float frame is asked for.
+  const bool narrow = sizeof(Real) == 8 && precision_ == FramePrecision::Float;
+  const char* floatType = narrow ? "Float32" : realType();
+  std::vector<float> narrowed;
+  auto appendedReal = [&](const void* p, std::size_t bytes) {
+    if (!narrow) return appended(p, bytes);
+    const Real* values = static_cast<const Real*>(p);
+    narrowed.assign(values, values + bytes / sizeof(Real));
+    return appended(narrowed.data(), narrowed.size() * sizeof(float));
+  };
   xml << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
          "header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
       << n_ << "\" NumberOfCells=\"" << cells << "\">\n<PointData>\n";
-  for (auto& a : arrays_)
-    xml << "<DataArray type=\"" << a.type << "\" Name=\"" << a.name << "\" NumberOfComponents=\"" << a.components
-        << "\" format=\"appended\" offset=\"" << appended(a.data, a.bytes) << "\"/>\n";
-  xml << "</PointData>\n<Points>\n<DataArray type=\"" << realType()
-      << "\" NumberOfComponents=\"3\" format=\"appended\" offset=\"" << appended(positions_, n_ * 3 * sizeof(Real))
+  for (auto& a : arrays_) {
+    const bool real = a.type == realType();
+    xml << "<DataArray type=\"" << (real ? floatType : a.type.c_str()) << "\" Name=\"" << a.name << "\" NumberOfComponents=\""
+        << a.components << "\" format=\"appended\" offset=\""
+        << (real ? appendedReal(a.data, a.bytes) : appended(a.data, a.bytes)) << "\"/>\n";
+  }
+  xml << "</PointData>\n<Points>\n<DataArray type=\"" << floatType
+      << "\" NumberOfComponents=\"3\" format=\"appended\" offset=\"" << appendedReal(positions_, n_ * 3 * sizeof(Real))
       << "\"/>\n</Points>\n<Cells>\n";
   xml << "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"appended\" offset=\""
       << appended(connectivity.data(), connectivity.size() * 8) << "\"/>\n";
@@ -99,6 +112,17 @@ std::string VtuPointCloud::serialize() const {
   out += data.str();
   out += "\n</AppendedData>\n</VTKFile>\n";
   return out;
+}
+
+std::string serializeVtu(const PointTable& table, FramePrecision precision) {
+  VtuPointCloud cloud(table.positions, table.size);
+  if (table.triangles) cloud.setTriangles(table.triangles, table.triangleCount);
+  for (const PointColumn& c : table.columns) {
+    if (c.integer) cloud.add(c.name, static_cast<const Index*>(c.data));
+    else cloud.add(c.name, static_cast<const Real*>(c.data), c.components);
+  }
+  cloud.setPrecision(precision);
+  return cloud.serialize();
 }
 
 std::string particlesToVtu(ParticleFields& fields, std::size_t n) {

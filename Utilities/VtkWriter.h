@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "Simulation/ParticleFields.h"
+#include "Utilities/PointTable.h"
 
 namespace consph {
 
@@ -25,6 +26,8 @@ class VtuPointCloud {
     triangles_ = triangles;
     nTriangles_ = count;
   }
+  // Float: Real arrays (and the points) are written as Float32 even in a double build.
+  void setPrecision(FramePrecision precision) { precision_ = precision; }
   std::string serialize() const;
 
  private:
@@ -39,7 +42,11 @@ class VtuPointCloud {
   const std::array<Index, 3>* triangles_ = nullptr;
   std::size_t nTriangles_ = 0;
   std::vector<Array> arrays_;
+  FramePrecision precision_ = sizeof(Real) == 8 ? FramePrecision::Double : FramePrecision::Float;
 };
+
+// The .vtu of a point table (a mesh when it has triangles).
+std::string serializeVtu(const PointTable& table, FramePrecision precision);
 
 // Every exported field of a particle set, the first n particles.
 std::string particlesToVtu(ParticleFields& fields, std::size_t n);
@@ -50,6 +57,9 @@ class VtkSeries {
   VtkSeries(std::string directory, std::string name);
   // Writes frame `index` at simulated time `time`; returns its path.
   std::string write(std::size_t index, double time, const std::string& vtuContents);
+  // The frames listed in NAME.pvd (time, file name); a restarted run sets the earlier ones.
+  const std::vector<std::pair<double, std::string>>& frames() const { return frames_; }
+  void setFrames(std::vector<std::pair<double, std::string>> frames) { frames_ = std::move(frames); }
 
  private:
   std::string directory_, name_;

@@ -23,7 +23,7 @@ SharedPyObject sharePyObject(py::object object) {
 }
 
 std::shared_ptr<PySimulation> PySimulation::create(const json& scene, const std::string& baseDir,
-                                                   const PythonPlugins& plugins, py::object log) {
+                                                   const PythonPlugins& plugins, py::object log, const std::string& restartFrom) {
   std::shared_ptr<PySimulation> self(new PySimulation());
   self->logCallback_ = std::move(log);
   PySimulation* raw = self.get();  // the sink lives inside the Simulation `raw` owns
@@ -33,7 +33,9 @@ std::shared_ptr<PySimulation> PySimulation::create(const json& scene, const std:
   };
   const PluginRegistry registry = plugins.build(self);
   self->released([&] {
-    self->simulation_ = std::make_unique<Simulation>(parseScene(scene, baseDir, sink), registry, sink);
+    SceneDescription description = parseScene(scene, baseDir, sink);
+    description.restartFrom = restartFrom;
+    self->simulation_ = std::make_unique<Simulation>(std::move(description), registry, sink);
   });
   return self;
 }
@@ -209,29 +211,32 @@ in C++ with the GIL released. Particle arrays are zero-copy NumPy views: see Flu
       .def_static(
           "from_file",
           [](const py::object& path, const py::object& overrides, const py::object& plugins, py::object log,
-             const py::object& output) {
+             const py::object& output, const py::object& restart) {
             const std::string file = pathArgument(path);
             const json scene = applyOptions(readJsonFile(file), overrides, output);
             return PySimulation::create(scene, std::filesystem::path(file).parent_path().string(), pluginsArgument(plugins),
-                                        std::move(log));
+                                        std::move(log), restart.is_none() ? std::string() : pathArgument(restart));
           },
           py::arg("path"), py::kw_only(), py::arg("overrides") = py::none(), py::arg("plugins") = py::none(),
-          py::arg("log") = py::none(), py::arg("output") = py::none(),
+          py::arg("log") = py::none(), py::arg("output") = py::none(), py::arg("restart") = py::none(),
           R"doc(Loads a JSON scene file.
 
 overrides: {"simulation.pressureSolver.maxError": 0.01, "fluids.0.density0": 998} (the CLI's --set);
 plugins: a consph.PluginRegistry (default: consph.default_plugins) whose Python forces the scene may name;
 log: None (warnings -> warnings.warn(ConsphWarning), info -> logging "consph") or callable(level, message);
-output: None (the scene's "output"), False (write no frames) or a directory for the frames.)doc")
+output: None (the scene's "output"), False (write no frames) or a directory for the frames;
+restart: a checkpoint of the same scene (save_checkpoint, output.checkpointInterval) to continue from.)doc")
       .def_static(
           "from_dict",
           [](const py::object& scene, const py::object& baseDir, const py::object& overrides, const py::object& plugins,
-             py::object log, const py::object& output) {
+             py::object log, const py::object& output, const py::object& restart) {
             const json description = applyOptions(toJson(scene, "scene"), overrides, output);
-            return PySimulation::create(description, pathArgument(baseDir), pluginsArgument(plugins), std::move(log));
+            return PySimulation::create(description, pathArgument(baseDir), pluginsArgument(plugins), std::move(log),
+                                        restart.is_none() ? std::string() : pathArgument(restart));
           },
           py::arg("scene"), py::kw_only(), py::arg("base_dir") = ".", py::arg("overrides") = py::none(),
           py::arg("plugins") = py::none(), py::arg("log") = py::none(), py::arg("output") = py::none(),
+          py::arg("restart") = py::none(),
           "Builds a simulation from a dict with the scene file's schema; relative mesh paths resolve against "
           "base_dir. Keyword arguments as in from_file.")
       .def("step", &PySimulation::step, py::arg("n") = 1,
@@ -303,7 +308,13 @@ output: None (the scene's "output"), False (write no frames) or a directory for 
       .def_property_readonly("fluids",
                              [](const std::shared_ptr<PySimulation>& s) { return py::make_tuple(PyFluid{s}); })
       .def("export_frame", [](PySimulation& s, const py::object& path) { s.exportFrame(pathArgument(path)); },
-           py::arg("path"), "Writes the current particles to one .vtu file.")
+           py::arg("path"),
+           "Writes the current particles to one frame file, in the format its extension names (.vtu, .ply, .bgeo, "
+           ".bgeo.gz), with the scene's output.attributes at the build's precision (.bgeo: float32).")
+      .def("save_checkpoint", [](PySimulation& s, const py::object& path) { s.simulation().saveCheckpoint(pathArgument(path)); },
+           py::arg("path"),
+           "Writes the whole state (particle fields, bodies, emitters, time, step count, time-step state) to a "
+           "checkpoint file; Simulation.from_file/from_dict(..., restart=path) continues from it bit for bit.")
       .def_property(
           "output_directory", [](PySimulation& s) { return s.simulation().scene().output.directory; },
           [](PySimulation& s, const py::object& dir) {

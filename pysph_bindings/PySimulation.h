@@ -42,8 +42,9 @@ class PySimulation : public std::enable_shared_from_this<PySimulation> {
   // Parses `scene` (resolving relative paths against `baseDir`) and builds the simulation with
   // the built-in plugins plus `plugins`' Python forces. `log`: None (warnings go to
   // warnings.warn, info to logging.getLogger("consph")) or callable(level: str, message: str).
+  // `restartFrom`: a checkpoint of the same scene to continue from (empty: start at t = 0).
   static std::shared_ptr<PySimulation> create(const json& scene, const std::string& baseDir, const PythonPlugins& plugins,
-                                              py::object log);
+                                              py::object log, const std::string& restartFrom = "");
   ~PySimulation();
 
   // The simulation, for reading and writing between steps (or from inside a Python force on

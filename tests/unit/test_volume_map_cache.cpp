@@ -1,0 +1,97 @@
+// The volume-map cache (Boundary/VolumeMapCache.h): a scene's second build loads its maps, with
+// the same node values; anything that changes a map misses; a damaged file is rebuilt.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "Boundary/VolumeMapBoundary_Bender2019.h"
+#include "TestUtil.h"
+
+using namespace consph;
+using namespace consph::test;
+
+namespace {
+
+// A sphere mesh (a real mesh: distances from triangles, winding numbers) in a box tank.
+json cachedScene(const std::string& cache, double cellSize = 2.0) {
+  json scene = json::parse(R"({
+    "simulation": {"particleRadius": 0.025, "boundaryModel": {"type": "VolumeMap"}},
+    "fluids": [{"blocks": [{"min": [0.05, 0.05, 0.05], "max": [0.3, 0.2, 0.3]}]}],
+    "boundaries": [{"box": {"min": [0, 0, 0], "max": [1, 1, 1]}, "inverted": true},
+                   {"name": "ball", "mesh": "../meshes/sphere.obj", "scale": [0.15, 0.15, 0.15], "translation": [0.6, 0.5, 0.5]}]
+  })");
+  scene["simulation"]["boundaryModel"]["cache"] = cache;
+  scene["simulation"]["boundaryModel"]["cellSize"] = cellSize;
+  return scene;
+}
+
+const VolumeMapBoundary_Bender2019& mapsOf(const Simulation& sim) {
+  return dynamic_cast<const VolumeMapBoundary_Bender2019&>(sim.boundaryModel());
+}
+
+std::string scratchCache(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("consph_test_volume_map_cache_" + name);
+  std::filesystem::remove_all(dir);
+  return dir.string();
+}
+
+}  // namespace
+
+TEST(VolumeMapCache, SecondBuildLoadsIdenticalMaps) {
+  const std::string cache = scratchCache("hit");
+  CapturedLog firstLog, secondLog;
+  auto first = simulationFromJson(cachedScene(cache), firstLog.sink());
+  const auto& built = mapsOf(*first);
+  EXPECT_EQ(built.cache().loads(), 0u);
+  EXPECT_GE(built.cache().builds(), 2u);  // the tank and the ball
+  const std::size_t files = std::distance(std::filesystem::directory_iterator(cache), std::filesystem::directory_iterator());
+  EXPECT_EQ(files, built.cache().builds());
+
+  auto second = simulationFromJson(cachedScene(cache), secondLog.sink());
+  const auto& loaded = mapsOf(*second);
+  EXPECT_EQ(loaded.cache().builds(), 0u);
+  EXPECT_EQ(loaded.cache().loads(), built.cache().builds());
+  bool said = false;
+  for (const std::string& line : secondLog.infos) said |= line.find("volume map of 'ball' (boundaries[1]): loaded from " + cache) == 0;
+  EXPECT_TRUE(said) << "the log names the load";
+  for (std::size_t o = 0; o < 2; ++o) {
+    EXPECT_EQ(loaded.map(o).distances(), built.map(o).distances()) << "object " << o;
+    EXPECT_EQ(loaded.map(o).volumes(), built.map(o).volumes()) << "object " << o;
+    EXPECT_EQ(loaded.map(o).surfaceOffset(), built.map(o).surfaceOffset());
+  }
+  // The simulations agree too: a step from loaded maps equals one from built ones.
+  first->step();
+  second->step();
+  EXPECT_EQ(first->fluid().positions, second->fluid().positions);
+  std::filesystem::remove_all(cache);
+}
+
+TEST(VolumeMapCache, ChangedParametersOrTransformsMissAndDamagedFilesAreRebuilt) {
+  const std::string cache = scratchCache("miss");
+  simulationFromJson(cachedScene(cache));
+  // Another cell size: every map differs.
+  auto coarser = simulationFromJson(cachedScene(cache, 3.0));
+  EXPECT_EQ(mapsOf(*coarser).cache().loads(), 0u);
+  // The ball moved: its map misses, the tank's still loads.
+  json moved = cachedScene(cache);
+  moved["boundaries"][1]["translation"][0] = 0.55;
+  auto shifted = simulationFromJson(moved);
+  EXPECT_GE(mapsOf(*shifted).cache().loads(), 1u);
+  EXPECT_GE(mapsOf(*shifted).cache().builds(), 1u);
+  // A damaged file (cut short): a warning, then the map is built and stored again.
+  for (const auto& e : std::filesystem::directory_iterator(cache)) std::filesystem::resize_file(e.path(), 100);
+  CapturedLog log;
+  auto rebuilt = simulationFromJson(cachedScene(cache), log.sink());
+  EXPECT_EQ(mapsOf(*rebuilt).cache().loads(), 0u);
+  ASSERT_FALSE(log.warnings.empty());
+  EXPECT_NE(log.warnings[0].find("volume map cache:"), std::string::npos) << log.warnings[0];
+  EXPECT_EQ(mapsOf(*simulationFromJson(cachedScene(cache))).cache().builds(), 0u);  // stored again
+  std::filesystem::remove_all(cache);
+}
+
+TEST(VolumeMapCache, EmptyCacheFolderTurnsItOff) {
+  auto sim = simulationFromJson(cachedScene(""));
+  EXPECT_EQ(mapsOf(*sim).cache().loads(), 0u);
+  EXPECT_EQ(mapsOf(*sim).cache().pathOf(sim->scene().boundaries[1], sim->kernel(), 0.05, 0), "");
+}
