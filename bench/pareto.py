@@ -1,0 +1,437 @@
+#!/usr/bin/python3
+"""Run time against error: which configuration is cheapest for a given accuracy (issue 19).
+
+Cases, each with an exact or published answer and reduced to one error number per run (%):
+  tank        a block n x n x 2n drawn up to the walls of its tank (w = 0.371 m; n = 8 / 12 / 16,
+              r = 0.025 / 0.0167 / 0.0125), rests 2 s: RMS of p - rho0 g d over every particle
+              deeper than 3r (raw solver pressure; d below the level gauge's surface), % of
+              rho0 g H, at t = 2 s  -> "tank_rms";
+              |floor force / weight - 1| (force probe, mean over 1.5-2 s)  -> "tank_floor";
+  martinmoyce the Martin & Moyce (1952) dam break, n^2 = 2 (data/validation/), a slab 4
+              particles deep, column a = nx d (nx = 11 / 22 / 44, r = 0.01 / 0.005 / 0.0025):
+              RMS of (Z_sim - Z_exp) / Z_exp over the measured points with T <= 3;
+  buoyancy    a 0.5 rho0 box (0.2 x 0.1 x 0.2 m) floating in a 0.4 m tank filled 0.25 m deep,
+              r = 0.02 / 0.0133 / 0.01, 3 s: |submerged fraction - 0.5| in points (the fraction
+              under a level gauge's surface in a corner of the tank, mean over 2-3 s);
+  jet         a 2 m/s round jet (radius a = 0.04 m) without gravity onto a plate, r = a/4, a/8,
+              a/12 (as bench/wall_pressure.py): |plate force / (mdot U) - 1|, mean over 0.3-0.6 s;
+  spheredrop  (full sweep) the paper's experiment, data/scenes/SphereDrop.json, DFSPH, Akinci
+              walls, each treatment: the near-wall pressure noise at rest (RMS of p - p_h over
+              the particles within 3.5 r of the sphere, / mean p_h; p_h hydrostatic with the
+              surface fitted on the bulk) over the last second of 4 s.
+
+The sweep (each point: one child process, 2 threads by default, wall time of the stepping only;
+machine and load average printed):
+  DFSPH, IISPH   x Akinci2012, VolumeMap x consistent, mirroring, extrapolation x 3 radii, at
+                 the default tolerance (maxError 0.01 %);
+  tolerance      DFSPH, IISPH x Akinci2012 x auto x maxError 0.1 / 0.05 % x 3 radii (0.01 % is in
+                 the row above);
+  WCSPH          x Akinci2012, VolumeMap x auto x 3 radii (it has no tolerance: its stiffness
+                 sets the compression);
+  float          DFSPH x Akinci2012 x auto x 3 radii, when --float-build names a float build.
+Pruned, and why: the tolerance and precision axes only around the default configuration (their
+effect on the others is the same solve run longer or in float); WCSPH with the default treatment
+only (it is the explicit baseline, not a candidate for tight errors); mirroring on VolumeMap stays
+(it is not extrapolation there since the fit was widened).
+--quick: DFSPH, IISPH x Akinci2012 x consistent, extrapolation x the two coarse radii, plus WCSPH
+auto, no spheredrop and no feature costs (under 5 minutes on 2 cores).
+
+Also measured on the same machine, in the full sweep: what an unused feature costs per step (the
+tank at n = 12, DFSPH defaults, against the same scene with an emitter that starts after the end,
+an animated body at rest out of the fluid's reach, a zero drag force, a probe), interleaved
+repetitions.
+
+Output: bench/results/pareto.csv (every point), bench/results/pareto_<case>.png (log-log error
+against wall time, colour = solver, marker = boundary model, the Pareto front drawn),
+bench/results/pareto.md (the fronts, the cheapest configuration per error level, the feature
+costs), printed as well.
+Usage: /usr/bin/python3 bench/pareto.py [--quick] [--threads 2] [--build build] [--float-build DIR]
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+from machine import machine_line  # noqa: E402
+
+RHO0, G, SPACING = 1000.0, 9.81, 1.8566
+TANK_W = 8 * SPACING * 0.025
+CASES = ["tank", "martinmoyce", "buoyancy", "jet"]
+METRICS = {"tank": ["tank_rms", "tank_floor"], "martinmoyce": ["martinmoyce"], "buoyancy": ["buoyancy"], "jet": ["jet"],
+           "spheredrop": ["spheredrop"]}
+RADII = {"tank": [0.025, 0.025 * 8 / 12, 0.0125], "martinmoyce": [0.01, 0.005, 0.0025],
+         "buoyancy": [0.02, 0.02 * 2 / 3, 0.01], "jet": [0.01, 0.005, 0.04 / 12]}
+DEFAULT_TOLERANCE = 0.01
+
+
+def simulation_block(cfg, r, stop_at, gravity=True):
+    ps = {"type": cfg["solver"]}
+    if cfg["solver"] != "WCSPH":
+        ps["maxError"] = cfg["tolerance"]
+    if cfg["solver"] == "IISPH":
+        ps["maxIterations"] = 300  # 0.01 % under a deep column needs more than the default 100
+    sim = {"particleRadius": r, "stopAt": stop_at, "boundaryPressure": cfg["treatment"],
+           "boundaryModel": {"type": cfg["model"]}, "pressureSolver": ps}
+    if not gravity:
+        sim["gravity"] = [0, 0, 0]
+    return sim
+
+
+def tank_scene(cfg, r):
+    n = int(round(TANK_W / (SPACING * r)))
+    w, hb = TANK_W, 2 * TANK_W
+    return {"simulation": simulation_block(cfg, r, 2.0),
+            "fluids": [{"name": "water", "forces": [{"type": "StandardViscosity", "viscosity": 0.01}],
+                        "blocks": [{"min": [0, 0, 0], "max": [w + 1e-9, hb + 1e-9, w + 1e-9]}]}],
+            "boundaries": [{"name": "tank", "box": {"min": [0, 0, 0], "max": [w, 3 * hb, w]}, "inverted": True}],
+            "probes": [{"name": "level", "kind": "level", "position": [w / 2, 0, w / 2]},
+                       {"name": "tank", "kind": "force", "boundary": "tank"}],
+            "output": {"enabled": False}}, n
+
+
+def martin_moyce_scene(cfg, r):
+    d, wall = SPACING * r, 2 * r
+    nx = {0.01: 11, 0.005: 22, 0.0025: 44}[r]  # a = nx d = 0.204 m at every radius
+    up = 5e-7
+    return {"simulation": simulation_block(cfg, r, 1.0),
+            "fluids": [{"name": "water", "forces": [{"type": "StandardViscosity", "viscosity": 1e-6}],
+                        "blocks": [{"min": [wall, wall, wall], "max": [wall + nx * d + up, wall + 2 * nx * d + up, wall + 4 * d + up]}]}],
+            "boundaries": [{"box": {"min": [0, 0, 0], "max": [1.2, 0.6, 2 * wall + 4 * d]}, "inverted": True}],
+            "output": {"enabled": False}}, nx
+
+
+def buoyancy_scene(cfg, r):
+    W, depth, side, height = 0.4, 0.25, 0.2, 0.1
+    lo = (W - side) / 2
+    bottom = depth - 0.5 * height
+    return {"simulation": simulation_block(cfg, r, 3.0),
+            "fluids": [{"name": "water", "forces": [{"type": "StandardViscosity", "viscosity": 0.01}],
+                        "blocks": [{"min": [0, 0, 0], "max": [W, depth, W]}]}],
+            "boundaries": [{"name": "tank", "box": {"min": [0, 0, 0], "max": [W, 0.6, W]}, "inverted": True},
+                           {"name": "box", "box": {"min": [lo, bottom, lo], "max": [lo + side, bottom + height, lo + side]},
+                            "dynamic": True, "density": 500}],
+            "probes": [{"name": "level", "kind": "level", "position": [0.04, 0, 0.04]}],
+            "output": {"enabled": False}}, None
+
+
+def jet_scene(cfg, r):
+    a = 0.04
+    rm = 6 * a
+    return {"simulation": dict(simulation_block(cfg, r, 0.6, gravity=False), domain={"min": [-1, -1, -1], "max": [1, 1, 1]}),
+            "fluids": [{"name": "water", "forces": [{"type": "StandardViscosity", "viscosity": 0.001}],
+                        "emitters": [{"shape": "circle", "position": [0, 5 * a, 0], "direction": [0, -1, 0], "speed": 2.0, "radius": a}],
+                        "removeOutside": {"min": [-rm, -0.1, -rm], "max": [rm, 5 * a + 0.3, rm]}}],
+            "boundaries": [{"name": "plate", "box": {"min": [-rm - 0.1, -0.05, -rm - 0.1], "max": [rm + 0.1, 0, rm + 0.1]}}],
+            "probes": [{"name": "plate", "kind": "force", "boundary": "plate"}],
+            "output": {"enabled": False}}, None
+
+
+def read_martin_moyce():
+    pts = []
+    with open(os.path.join(ROOT, "data", "validation", "martin_moyce_1952_front_n2.csv")) as f:
+        for line in f:
+            if not line.strip() or line[0] in "#T":
+                continue
+            T, Z = (float(v) for v in line.split(","))
+            pts.append((T, Z))
+    return pts
+
+
+def measure(case, cfg, r, threads):
+    """One point, in this (child) process: error(s), wall seconds of the stepping, steps, iterations."""
+    import numpy as np
+    import consph
+    consph.set_num_threads(threads)
+    out = {"precision": consph.precision}
+    if case == "tank":
+        scene, n = tank_scene(cfg, r)
+        sim = consph.Simulation.from_dict(scene)
+        f = sim.fluid("water")
+        weight = len(f.positions) * float(f.masses[0]) * G
+        t0 = time.perf_counter()
+        sim.run(until=1.5)
+        rows = []
+        while sim.time < 2.0 - 1e-9:
+            sim.step(1)
+            rows.append(sim.probes)
+        wall = time.perf_counter() - t0
+        H = float(np.mean([x["level"] for x in rows]))
+        depth = H - f.positions[:, 1]
+        deep = depth > 3 * r
+        p = f.pressures
+        out["tank_rms"] = 100 * float(np.sqrt(np.mean((p[deep] - RHO0 * G * depth[deep]) ** 2)) / (RHO0 * G * H))
+        out["tank_floor"] = 100 * abs(-float(np.mean([x["tank.fy"] for x in rows])) / weight - 1)
+    elif case == "martinmoyce":
+        scene, nx = martin_moyce_scene(cfg, r)
+        sim = consph.Simulation.from_dict(scene)
+        f = sim.fluid("water")
+        d, wall = SPACING * r, 2 * r
+        a = nx * d
+        scale = math.sqrt(2 * G / a)
+        measured = [(T, Z) for T, Z in read_martin_moyce() if T <= 3.0]
+        t_end = measured[-1][0] / scale
+        times, fronts = [0.0], [1.0]
+        t0 = time.perf_counter()
+        while sim.time < t_end:
+            sim.step(1)
+            times.append(sim.time)
+            fronts.append((float(f.positions[:, 0].max()) + 0.5 * d - wall) / a)
+        wall_s = time.perf_counter() - t0
+        zs = np.interp([T / scale for T, _ in measured], times, fronts)
+        out["martinmoyce"] = 100 * float(np.sqrt(np.mean([((z - Z) / Z) ** 2 for z, (_, Z) in zip(zs, measured)])))
+        wall = wall_s
+    elif case == "buoyancy":
+        scene, _ = buoyancy_scene(cfg, r)
+        sim = consph.Simulation.from_dict(scene)
+        t0 = time.perf_counter()
+        sim.run(until=2.0)
+        fractions = []
+        while sim.time < 3.0 - 1e-9:
+            sim.step(1)
+            y = sim.bodies[0]["position"][1]
+            fractions.append((sim.probes["level"] - (y - 0.05)) / 0.1)
+        wall = time.perf_counter() - t0
+        out["buoyancy"] = 100 * abs(float(np.mean(fractions)) - 0.5)
+    elif case == "jet":
+        scene, _ = jet_scene(cfg, r)
+        sim = consph.Simulation.from_dict(scene)
+        f = sim.fluid("water")
+        t0 = time.perf_counter()
+        sim.run(until=0.3)
+        e0, ts, fy = sim.summary()["particlesEmitted"], sim.time, []
+        while sim.time < 0.6 - 1e-9:
+            sim.step(1)
+            fy.append(sim.probes["plate.fy"])
+        wall = time.perf_counter() - t0
+        mdot = (sim.summary()["particlesEmitted"] - e0) * float(f.masses[0]) / (sim.time - ts)
+        out["jet"] = 100 * abs(-float(np.mean(fy)) / (mdot * 2.0) - 1)
+    elif case == "spheredrop":
+        scene = json.load(open(os.path.join(ROOT, "data", "scenes", "SphereDrop.json")))
+        scene["boundaries"][0]["mesh"] = os.path.join(ROOT, "data", "meshes", "sphere.obj")
+        scene["simulation"].update(simulation_block(cfg, scene["simulation"]["particleRadius"], 4.0))
+        scene["output"] = {"enabled": False}
+        sim = consph.Simulation.from_dict(scene)
+        f = sim.fluid("water")
+        rr = scene["simulation"]["particleRadius"]
+        t0 = time.perf_counter()
+        sim.run(until=3.0)
+        noise = []
+        while sim.time < 4.0 - 1e-9:
+            sim.step(10)
+            x, p = f.positions, f.pressures
+            top = x[:, 1].max()
+            wall_dist = 0.5 - np.linalg.norm(x, axis=1)
+            bulk = (wall_dist > 4 * rr) & (x[:, 1] < top - 4 * rr)
+            ys = float(np.mean(x[bulk, 1] + p[bulk] / (RHO0 * G)))
+            near = (wall_dist < 3.5 * rr) & (x[:, 1] < top - 4 * rr)
+            ph = RHO0 * G * (ys - x[near, 1])
+            noise.append(float(np.sqrt(np.mean((p[near] - ph) ** 2)) / np.mean(ph)))
+        wall = time.perf_counter() - t0
+        out["spheredrop"] = 100 * float(np.mean(noise))
+    s = sim.summary()
+    out.update({"wall": wall, "steps": s["steps"], "pressure_iterations": s["averagePressureIterations"],
+                "cap_hits": s["iterationCapHits"], "treatment_resolved": s["boundaryPressure"]})
+    return out
+
+
+def sweep(quick, have_float):
+    """(case, cfg, r) for every point."""
+    points = []
+    for case in CASES:
+        radii = RADII[case][:2] if quick else RADII[case]
+        base = {"tolerance": DEFAULT_TOLERANCE, "precision": "double"}
+        for r in radii:
+            for solver in ["DFSPH", "IISPH"]:
+                models = ["Akinci2012"] if quick else ["Akinci2012", "VolumeMap"]
+                treatments = ["consistent", "extrapolation"] if quick else ["consistent", "mirroring", "extrapolation"]
+                for model in models:
+                    for treatment in treatments:
+                        points.append((case, dict(base, solver=solver, model=model, treatment=treatment), r))
+                if not quick:
+                    for tol in [0.1, 0.05]:
+                        points.append((case, dict(base, solver=solver, model="Akinci2012", treatment="auto", tolerance=tol), r))
+            for model in (["Akinci2012"] if quick else ["Akinci2012", "VolumeMap"]):
+                points.append((case, dict(base, solver="WCSPH", model=model, treatment="auto"), r))
+            if have_float and not quick:
+                points.append((case, dict(base, solver="DFSPH", model="Akinci2012", treatment="auto", precision="float"), r))
+    if not quick:
+        for treatment in ["consistent", "mirroring", "extrapolation"]:
+            points.append(("spheredrop", {"solver": "DFSPH", "model": "Akinci2012", "treatment": treatment,
+                                          "tolerance": DEFAULT_TOLERANCE, "precision": "double"}, 0.01))
+    return points
+
+
+def label(cfg, r):
+    tol = "" if cfg["solver"] == "WCSPH" else f" {cfg['tolerance']}%"
+    return f"{cfg['solver']} {cfg['model']} {cfg['treatment']}{tol} r={r:.4g} {cfg['precision']}"
+
+
+def front(points, metric):
+    """The Pareto front: points no cheaper point beats in error, by increasing wall time."""
+    best, out = math.inf, []
+    for p in sorted((p for p in points if metric in p), key=lambda p: p["wall"]):
+        if p[metric] < best:
+            best = p[metric]
+            out.append(p)
+    return out
+
+
+def plot(points, case, metric):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    colours = {"DFSPH": "tab:blue", "IISPH": "tab:orange", "WCSPH": "tab:green"}
+    markers = {"Akinci2012": "o", "VolumeMap": "s"}
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for p in points:
+        if metric not in p:
+            continue
+        c = p["cfg"]
+        ax.scatter(p["wall"], max(p[metric], 1e-3), c=colours[c["solver"]], marker=markers[c["model"]], s=22,
+                   facecolors="none" if c["precision"] == "float" else colours[c["solver"]], edgecolors=colours[c["solver"]])
+    fr = front(points, metric)
+    ax.plot([p["wall"] for p in fr], [max(p[metric], 1e-3) for p in fr], "k-", lw=1, label="Pareto front")
+    for s, col in colours.items():
+        ax.scatter([], [], c=col, marker="o", label=s)
+    for m, mk in markers.items():
+        ax.scatter([], [], c="gray", marker=mk, label=m)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("wall time of the run, s")
+    ax.set_ylabel(f"{metric} error, %")
+    ax.set_title(f"{case}: error against run time", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(HERE, "results", f"pareto_{metric}.png"), dpi=110)
+    plt.close(fig)
+
+
+def feature_costs(build, threads, reps=3):
+    """ms per step of the n = 12 tank with and without features that do nothing."""
+    cfg = {"solver": "DFSPH", "model": "Akinci2012", "treatment": "auto", "tolerance": DEFAULT_TOLERANCE, "precision": "double"}
+    base, _ = tank_scene(cfg, RADII["tank"][1])
+    base["simulation"]["stopAt"] = 1.0
+    base.pop("probes")
+    variants = {"none": base}
+    v = json.loads(json.dumps(base))
+    v["fluids"][0]["emitters"] = [{"shape": "circle", "position": [0.18, 1.5, 0.18], "direction": [0, -1, 0], "speed": 1.0,
+                                   "radius": 0.03, "start": 100.0}]
+    variants["emitter, never starts"] = v
+    v = json.loads(json.dumps(base))
+    v["boundaries"].append({"name": "idle", "box": {"min": [2, 2, 2], "max": [2.1, 2.1, 2.1]}, "animated": {"velocity": [0, 0, 0]}})
+    v["simulation"]["domain"] = {"min": [-1, -1, -1], "max": [3, 3, 3]}
+    variants["animated body out of reach"] = v
+    v = json.loads(json.dumps(base))
+    v["fluids"][0]["forces"].append({"type": "Macklin2014", "drag": 0.0})
+    variants["drag force, coefficient 0"] = v
+    v = json.loads(json.dumps(base))
+    v["probes"] = [{"name": "level", "kind": "level", "position": [0.18, 0, 0.18]}]
+    variants["one level probe"] = v
+    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, build, "python"), OMP_NUM_THREADS=str(threads))
+    code = ("import sys, json, consph; consph.set_num_threads(%d); s = consph.Simulation.from_dict(json.loads(sys.stdin.read())); "
+            "s.run(until=0.2); import time; t = time.perf_counter(); n0 = s.step_count; s.run(until=1.0); "
+            "print((time.perf_counter() - t) * 1000 / (s.step_count - n0))") % threads
+    times = {k: [] for k in variants}
+    for _ in range(reps):
+        for name, scene in variants.items():
+            res = subprocess.run([sys.executable, "-c", code], input=json.dumps(scene), capture_output=True, text=True, env=env)
+            if res.returncode != 0:
+                times[name].append(float("nan"))
+                print(f"feature cost {name}: {res.stderr.strip().splitlines()[-1:]}", flush=True)
+                continue
+            times[name].append(float(res.stdout.strip().splitlines()[-1]))
+    return times
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--build", default="build")
+    ap.add_argument("--float-build", default="", help="a build folder configured with -DCONSPH_DOUBLE=OFF")
+    ap.add_argument("--child", help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.child:
+        spec = json.loads(args.child)
+        print(json.dumps(measure(spec["case"], spec["cfg"], spec["r"], args.threads)))
+        return
+    os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
+    points = []
+    started = time.time()
+    header = (f"Machine: {machine_line()}; {args.threads} threads per run, one run at a time; load average at start "
+              f"{os.getloadavg()[0]:.2f}")
+    print(header, flush=True)
+    for case, cfg, r in sweep(args.quick, bool(args.float_build)):
+        build = args.float_build if cfg["precision"] == "float" else args.build
+        env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, build, "python"), OMP_NUM_THREADS=str(args.threads))
+        spec = json.dumps({"case": case, "cfg": cfg, "r": r})
+        res = subprocess.run([sys.executable, __file__, "--child", spec, "--threads", str(args.threads)], capture_output=True,
+                             text=True, env=env)
+        point = {"case": case, "cfg": cfg, "r": r, "load": os.getloadavg()[0]}
+        if res.returncode != 0:
+            point["error"] = (res.stderr.strip().splitlines() or ["?"])[-1]
+            print(f"{label(cfg, r)} {case}: FAILED {point['error']}", flush=True)
+        else:
+            point.update(json.loads(res.stdout.strip().splitlines()[-1]))
+            errs = ", ".join(f"{m} {point[m]:.3g} %" for m in METRICS[case] if m in point)
+            print(f"{case:11s} {label(cfg, r):60s} {errs}, {point['wall']:.1f} s, {point['steps']} steps", flush=True)
+        points.append(point)
+    with open(os.path.join(HERE, "results", "pareto.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["case", "solver", "model", "treatment", "tolerance_percent", "precision", "r", "metric", "error_percent",
+                    "wall_s", "steps", "pressure_iterations_per_step", "cap_hits", "load"])
+        for p in points:
+            c = p["cfg"]
+            for m in METRICS[p["case"]]:
+                w.writerow([p["case"], c["solver"], c["model"], c["treatment"], c["tolerance"], c["precision"], p["r"], m,
+                            p.get(m, "nan"), p.get("wall", "nan"), p.get("steps", ""), p.get("pressure_iterations", ""),
+                            p.get("cap_hits", ""), f"{p['load']:.2f}"])
+    lines = [header + f"; sweep {'quick' if args.quick else 'full'}, {len(points)} runs, "
+             f"{(time.time() - started) / 60:.1f} min.", ""]
+    for case in CASES + ["spheredrop"]:
+        for metric in METRICS[case]:
+            pts = [p for p in points if p["case"] == case and metric in p]
+            if not pts:
+                continue
+            plot(pts, case, metric)
+            lines += [f"### {metric}", "", "Pareto front (each point cheaper than every more accurate one):", "",
+                      "| wall s | error % | configuration | steps | iterations / step |", "|---|---|---|---|---|"]
+            for p in front(pts, metric):
+                lines.append(f"| {p['wall']:.1f} | {p[metric]:.3g} | {label(p['cfg'], p['r'])} | {p['steps']} | "
+                             f"{p['pressure_iterations']:.1f} |")
+            lines += ["", "Cheapest configuration per error level:", "", "| error at most | configuration | wall s |", "|---|---|---|"]
+            for level in [0.5, 1, 2, 5, 10, 20]:
+                ok = [p for p in pts if p[metric] <= level]
+                if ok:
+                    p = min(ok, key=lambda p: p["wall"])
+                    lines.append(f"| {level} % | {label(p['cfg'], p['r'])} ({p[metric]:.3g} %) | {p['wall']:.1f} |")
+                else:
+                    lines.append(f"| {level} % | none of the sweep | |")
+            lines.append("")
+    if not args.quick:
+        costs = feature_costs(args.build, args.threads)
+        base = [t for t in costs["none"] if t == t]
+        lines += ["### What an unused feature costs", "",
+                  f"The n = 12 tank, DFSPH defaults, ms per step over 0.2-1 s, {len(base)} interleaved repetitions:", "",
+                  "| scene | ms per step (each repetition) | mean / without |", "|---|---|---|"]
+        mean0 = sum(base) / max(1, len(base))
+        for name, ts in costs.items():
+            good = [t for t in ts if t == t]
+            mean = sum(good) / max(1, len(good))
+            lines.append(f"| {name} | {', '.join(f'{t:.2f}' for t in ts)} | {mean / mean0:.3f} |")
+        lines.append("")
+    text = "\n".join(lines)
+    print(text)
+    with open(os.path.join(HERE, "results", "pareto.md"), "w") as f:
+        f.write(text)
+
+
+if __name__ == "__main__":
+    main()
