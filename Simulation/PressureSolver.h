@@ -1,5 +1,6 @@
 // Interface of pressure solvers (DFSPH, IISPH, WCSPH, ...).
 #pragma once
+#include <limits>
 #include <vector>
 
 #include "Simulation/StepContext.h"
@@ -30,6 +31,9 @@ class PressureSolver {
   virtual void boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const {
     throw SimulationError("this pressure solver does not report boundary impulses, which dynamic bodies need");
   }
+  // The largest time step an explicit solver is stable at, s (infinite for the implicit ones):
+  // part of the default time-step cap, like NonPressureForce::maxStableTimeStep.
+  virtual Real maxStableTimeStep(Real particleRadius, Real density0) const { return std::numeric_limits<Real>::infinity(); }
   const PressureSolverStats& stats() const { return stats_; }
 
  protected:

@@ -134,6 +134,12 @@ void Simulation::chooseTimeStepCap() {
       why << ", " << scene_.fluids[0].forces[i]["type"].get<std::string>() << " stability: " << limit << " s";
     }
   }
+  // An explicit pressure solver's own limit (WCSPH: the CFL condition on the speed of sound).
+  const Real solverLimit = pressureSolver_->maxStableTimeStep(scene_.particleRadius, fluid_->density0());
+  if (solverLimit < std::numeric_limits<Real>::infinity()) {
+    timeStepCap_ = std::min(timeStepCap_, solverLimit);
+    why << ", " << scene_.pressureSolver["type"].get<std::string>() << " stability: " << solverLimit << " s";
+  }
   timeStepCap_ = std::max(timeStepCap_, scene_.minTimeStep);
   why << ") = " << timeStepCap_ << " s (simulation.maxTimeStep sets it by hand)";
   log_(LogLevel::Info, why.str());

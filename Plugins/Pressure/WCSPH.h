@@ -14,6 +14,7 @@ class WCSPH final : public PressureSolver {
   explicit WCSPH(const Params& params);
   void solve(StepContext& ctx) override;
   void boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const override;
+  Real maxStableTimeStep(Real particleRadius, Real density0) const override;
   static std::vector<ParamSpec> parameters();
 
  private:

@@ -4,7 +4,9 @@
 // maxTimeStep the scene gives stands as it is.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "TestUtil.h"
 
@@ -67,4 +69,27 @@ TEST(TimeStep, AFineColumnRunsAtTheDefaults) {
               sim->stepCount(), peak, sim->stats().iterationCapHits);
   EXPECT_EQ(sim->stats().iterationCapHits, 0u);
   EXPECT_LT(peak, 3 * std::sqrt(2 * 9.81 * 0.41));  // survival: no blow-up (5 ms reached the domain's edge)
+}
+
+// WCSPH is explicit: its default cap includes the CFL condition on the Tait equation's speed of
+// sound, c_s = sqrt(gamma k / rho0), dt <= 0.4 (2r) / c_s (WCSPH::maxStableTimeStep). Without
+// it a resting tank at r = 0.025 ran 4.3 ms steps and a particle left it at t = 0.53 s
+// (measured 2026-12-02, bench/pareto.py); here a 6 x 6 x 12 block drawn up to its walls rests
+// for 1 s at the defaults.
+TEST(TimeStep, WcsphIsCappedBySoundSpeedAndRestsAtTheDefaults) {
+  const double r = 0.025, d = 1.8566 * r, k = 50000, gamma = 7, rho0 = 1000;
+  json s = {{"simulation", {{"particleRadius", r}, {"stopAt", 1.0}, {"pressureSolver", {{"type", "WCSPH"}}}}},
+            {"fluids", {{{"forces", {{{"type", "StandardViscosity"}, {"viscosity", 0.01}}}},
+                         {"blocks", {{{"min", {0, 0, 0}}, {"max", {6 * d + 1e-9, 12 * d + 1e-9, 6 * d + 1e-9}}}}}}}},
+            {"boundaries", {{{"box", {{"min", {0, 0, 0}}, {"max", {6 * d, 36 * d, 6 * d}}}}, {"inverted", true}}}}};
+  auto sim = test::simulationFromJson(s);
+  EXPECT_NEAR(sim->timeStepCap(), 0.4 * 2 * r / std::sqrt(gamma * k / rho0), 1e-12);
+  sim->run(Real(1.0));
+  double fastest = 0;
+  for (const Vector3r& v : sim->fluid().velocities) fastest = std::max(fastest, double(v.norm()));
+  std::printf("[ WCSPH ] cap %.3g s, %zu steps, fastest particle %.3f m/s\n", double(sim->timeStepCap()),
+              sim->stepCount(), fastest);
+  // It stays in the tank (a leak or blow-up throws) and settles: the column's free-fall speed
+  // over its own height is sqrt(2 g 12 d) = 1.66 m/s.
+  EXPECT_LT(fastest, 0.5);
 }
