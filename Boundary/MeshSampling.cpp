@@ -113,6 +113,7 @@ std::vector<Vector3r> sampleMeshSurface(const TriangleMesh& mesh, Real spacing, 
   });
   addCreaseSamples(mesh, spacing, normalOffset, points);
   shifts.resize(points.size(), std::abs(normalOffset));
+  progress.setTotal(lattice + points.size());
   dropPointsNearerThan(surface, shifts, points, lattice, progress);
   progress.finish();
   return thinPoints(points, Real(0.6) * spacing);

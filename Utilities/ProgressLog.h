@@ -16,6 +16,8 @@ class ProgressLog {
   ProgressLog(LogSink log, std::string what, std::size_t total, double quietSeconds = 2);
   // `done` of `total` items finished; writes a line when the interval has passed.
   void report(std::size_t done);
+  // For work whose size is known only part of the way through.
+  void setTotal(std::size_t total) { total_ = total; }
   void finish();
 
  private:

@@ -17,6 +17,7 @@
 
 #include "Boundary/MassProperties.h"
 #include "Boundary/MeshSampling.h"
+#include "Utilities/Log.h"
 #include "Utilities/Timer.h"
 #include "Utilities/TriangleBvh.h"
 #include "Utilities/TriangleMesh.h"
@@ -81,7 +82,8 @@ int main(int argc, char** argv) {
     const double buildSeconds = build.seconds();
     // Dynamic-body sampling as the Akinci boundary does it (layer moved into the body).
     Timer sampling;
-    const std::vector<Vector3r> samples = sampleMeshSurface(sphere, spacing, -offset);
+    // Progress lines (past 2 s) go to stderr, as the CLI's would.
+    const std::vector<Vector3r> samples = sampleMeshSurface(sphere, spacing, -offset, stderrLogSink(false), "the sphere");
     const double samplingSeconds = sampling.seconds();
     // Lattice points the sampler moved: 3 per triangle here (every triangle is shorter than a spacing).
     std::size_t lattice = 0;
