@@ -72,15 +72,7 @@ MassProperties computeMassProperties(const TriangleMesh& mesh) {
 
 Real windingNumber(const TriangleMesh& mesh, const Vector3r& p) {
   double omega = 0;
-  for (auto& t : mesh.triangles) {
-    const Eigen::Vector3d a = (mesh.vertices[t[0]] - p).cast<double>();
-    const Eigen::Vector3d b = (mesh.vertices[t[1]] - p).cast<double>();
-    const Eigen::Vector3d c = (mesh.vertices[t[2]] - p).cast<double>();
-    const double la = a.norm(), lb = b.norm(), lc = c.norm();
-    const double num = a.dot(b.cross(c));
-    const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-    omega += 2 * std::atan2(num, den);  // solid angle of the triangle seen from p
-  }
+  for (auto& t : mesh.triangles) omega += triangleSolidAngle(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
   return Real(omega / (4 * std::numbers::pi));
 }
 

@@ -21,6 +21,7 @@ MassProperties computeMassProperties(const TriangleMesh& mesh);
 
 // Generalised winding number of a closed mesh around p (1 inside, 0 outside), from the solid
 // angles of its triangles (Van Oosterom & Strackee 1983); robust for slightly open meshes.
+// O(n) per call: for many queries use TriangleBvh::windingNumber (Utilities/TriangleBvh.h).
 Real windingNumber(const TriangleMesh& mesh, const Vector3r& p);
 
 }  // namespace consph

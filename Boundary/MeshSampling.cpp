@@ -7,6 +7,8 @@
 #include <unordered_map>
 
 #include "Simulation/ResourceEstimate.h"
+#include "Utilities/ProgressLog.h"
+#include "Utilities/TriangleBvh.h"
 
 namespace consph {
 
@@ -44,57 +46,76 @@ std::vector<Vector3r> thinPoints(const std::vector<Vector3r>& points, Real minDi
 
 namespace {
 
-// Distance along the ray o + t dir (t > 0) to the nearest triangle other than `skip`;
-// infinity when none is hit (Moeller-Trumbore).
-Real rayHitDistance(const TriangleMesh& mesh, const Vector3r& o, const Vector3r& dir, std::size_t skip) {
-  Real best = std::numeric_limits<Real>::infinity();
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    if (t == skip) continue;
-    const auto& tri = mesh.triangles[t];
-    const Vector3r a = mesh.vertices[tri[0]], e1 = mesh.vertices[tri[1]] - a, e2 = mesh.vertices[tri[2]] - a;
-    const Vector3r pv = dir.cross(e2);
-    const Real det = e1.dot(pv);
-    if (std::abs(det) < Real(1e-14)) continue;
-    const Vector3r tv = o - a;
-    const Real u = tv.dot(pv) / det;
-    if (u < 0 || u > 1) continue;
-    const Vector3r qv = tv.cross(e1);
-    const Real v = dir.dot(qv) / det;
-    if (v < 0 || u + v > 1) continue;
-    const Real dist = e2.dot(qv) / det;
-    if (dist > Real(1e-9) && dist < best) best = dist;
+// body(i) for every i in [0, n), in parallel, in chunks with a progress report after each.
+template <class Body>
+void parallelForWithProgress(std::size_t n, std::size_t doneBefore, ProgressLog& progress, const Body& body) {
+  const std::size_t chunk = std::max<std::size_t>(16384, n / 64);
+  for (std::size_t begin = 0; begin < n; begin += chunk) {
+    const std::ptrdiff_t end = std::ptrdiff_t(std::min(n, begin + chunk));
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t i = std::ptrdiff_t(begin); i < end; ++i) body(std::size_t(i));
+    progress.report(doneBefore + std::size_t(end));
   }
-  return best;
+}
+
+void dropPointsNearerThan(const TriangleBvh& surface, const std::vector<Real>& distances, std::vector<Vector3r>& points,
+                          std::size_t doneBefore, ProgressLog& progress) {
+  // Moved faces overlap where the offset side is concave (a body's edges, moved inwards): their
+  // points beyond the overlap sit closer to the neighbouring face than they were moved.
+  std::vector<char> keep(points.size(), 1);
+  parallelForWithProgress(points.size(), doneBefore, progress, [&](std::size_t i) {
+    keep[i] = !surface.anyTriangleCloserThan(points[i], Real(0.98) * distances[i]);
+  });
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (keep[i]) points[n++] = points[i];
+  points.resize(n);
 }
 
 }  // namespace
 
-std::vector<Vector3r> sampleMeshSurface(const TriangleMesh& mesh, Real spacing, Real normalOffset) {
+std::vector<Vector3r> sampleMeshSurface(const TriangleMesh& mesh, Real spacing, Real normalOffset, const LogSink& log,
+                                        const std::string& name) {
+  // The lattice on every triangle, and the triangle each point belongs to.
   std::vector<Vector3r> points;
-  std::vector<Real> shifts;  // how far each point was moved
+  std::vector<std::size_t> owners;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
     const Vector3r a = mesh.vertices[tri[0]], b = mesh.vertices[tri[1]], c = mesh.vertices[tri[2]];
     const Real longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
     const int n = std::max(1, checkedCount(std::ceil(double(longest) / double(spacing)), "surface sampling of a triangle"));
-    const Vector3r normal = (b - a).cross(c - a).normalized();
-    const bool moved = normalOffset != 0 && normal.allFinite();
-    const Vector3r dir = moved ? Vector3r((normalOffset > 0 ? 1 : -1) * normal) : Vector3r::Zero();
     for (int i = 0; i <= n; ++i)
       for (int j = 0; i + j <= n; ++j) {
-        const Vector3r p = a + (b - a) * (Real(i) / n) + (c - a) * (Real(j) / n);
-        // A part thinner than twice the offset (a paddle, a plate) keeps its layer at its
-        // mid-plane instead of pushing it out of the other side.
-        const Real shift = moved ? std::min(std::abs(normalOffset), Real(0.5) * rayHitDistance(mesh, p, dir, t)) : Real(0);
-        points.push_back(p + shift * dir);
-        shifts.push_back(shift);
+        points.push_back(a + (b - a) * (Real(i) / n) + (c - a) * (Real(j) / n));
+        owners.push_back(t);
       }
   }
-  if (normalOffset != 0) {
-    addCreaseSamples(mesh, spacing, normalOffset, points);
-    shifts.resize(points.size(), std::abs(normalOffset));
-    dropPointsNearerThan(mesh, shifts, points);
-  }
+  if (normalOffset == 0) return thinPoints(points, Real(0.6) * spacing);
+  // Each point moved along its triangle's normal; the rays and the overlap test ask the
+  // hierarchy (O(log n) each) instead of every triangle.
+  const TriangleBvh surface(mesh);
+  const std::size_t lattice = points.size();
+  ProgressLog progress(log, "sampling " + (name.empty() ? std::string("a mesh") : name) + " (" + std::to_string(mesh.triangles.size()) +
+                                " triangles, " + std::to_string(lattice) + " samples)",
+                       2 * lattice);
+  std::vector<Real> shifts(lattice, 0);  // how far each point was moved
+  parallelForWithProgress(lattice, 0, progress, [&](std::size_t k) {
+    const auto& tri = mesh.triangles[owners[k]];
+    const Vector3r a = mesh.vertices[tri[0]], b = mesh.vertices[tri[1]], c = mesh.vertices[tri[2]];
+    const Vector3r normal = (b - a).cross(c - a).normalized();
+    if (!normal.allFinite()) return;
+    const Vector3r dir = (normalOffset > 0 ? 1 : -1) * normal;
+    // A part thinner than twice the offset (a paddle, a plate) keeps its layer at its
+    // mid-plane instead of pushing it out of the other side; farther surfaces do not matter.
+    const Real reach = 2 * std::abs(normalOffset);
+    shifts[k] = std::min(std::abs(normalOffset), Real(0.5) * surface.firstHitDistance(points[k], dir, owners[k], reach));
+    points[k] += shifts[k] * dir;
+  });
+  addCreaseSamples(mesh, spacing, normalOffset, points);
+  shifts.resize(points.size(), std::abs(normalOffset));
+  progress.setTotal(lattice + points.size());
+  dropPointsNearerThan(surface, shifts, points, lattice, progress);
+  progress.finish();
   return thinPoints(points, Real(0.6) * spacing);
 }
 
@@ -172,32 +193,8 @@ std::vector<Vector3r> sampleBoxSurface(const Vector3r& lo, const Vector3r& hi, R
 }
 
 void dropPointsNearerThan(const TriangleMesh& mesh, const std::vector<Real>& distances, std::vector<Vector3r>& points) {
-  // Moved faces overlap where the offset side is concave (a body's edges, moved inwards): their
-  // points beyond the overlap sit closer to the neighbouring face than they were moved.
-  std::vector<Vector3r> centres(mesh.triangles.size());
-  std::vector<Real> radii(mesh.triangles.size());
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto& tri = mesh.triangles[t];
-    centres[t] = (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3;
-    radii[t] = std::max({(mesh.vertices[tri[0]] - centres[t]).norm(), (mesh.vertices[tri[1]] - centres[t]).norm(),
-                         (mesh.vertices[tri[2]] - centres[t]).norm()});
-  }
-  std::vector<char> keep(points.size(), 1);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(points.size()); ++i) {
-    const Vector3r& p = points[i];
-    const Real distance = Real(0.98) * distances[i];
-    for (std::size_t t = 0; t < mesh.triangles.size() && keep[i]; ++t) {
-      if ((p - centres[t]).norm() - radii[t] >= distance) continue;
-      const auto& tri = mesh.triangles[t];
-      if ((p - closestPointOnTriangle(p, mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]])).norm() < distance)
-        keep[i] = 0;
-    }
-  }
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (keep[i]) points[n++] = points[i];
-  points.resize(n);
+  ProgressLog silent({}, "", points.size());
+  dropPointsNearerThan(TriangleBvh(mesh), distances, points, 0, silent);
 }
 
 }  // namespace consph

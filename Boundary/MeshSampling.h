@@ -1,8 +1,10 @@
 // Surface sampling of boundary geometry with points about `spacing` apart.
 #pragma once
+#include <string>
 #include <vector>
 
 #include "Simulation/Common.h"
+#include "Utilities/Log.h"
 #include "Utilities/TriangleMesh.h"
 
 namespace consph {
@@ -11,8 +13,11 @@ namespace consph {
 // edges and tiny triangles do not produce clusters. Each triangle's points are moved by
 // `normalOffset` along its unit normal (the winding's: counter-clockwise seen from the tip), at
 // most half the way to the next surface behind them (thin parts keep a mid-plane layer); moved
-// faces are closed at convex creases and trimmed where they overlap.
-std::vector<Vector3r> sampleMeshSurface(const TriangleMesh& mesh, Real spacing, Real normalOffset = 0);
+// faces are closed at convex creases and trimmed where they overlap. O(n log n) in the number of
+// samples (Utilities/TriangleBvh.h); work that runs past ~2 s logs progress lines to `log`,
+// naming the mesh `name`.
+std::vector<Vector3r> sampleMeshSurface(const TriangleMesh& mesh, Real spacing, Real normalOffset = 0, const LogSink& log = {},
+                                        const std::string& name = "");
 
 // Closes the strips and corner holes that moving triangles apart by `normalOffset` opens
 // along convex creases: arcs of radius |normalOffset| about the crease, a point per vertex.

@@ -121,7 +121,7 @@ BoundaryEstimate ParticleBoundary_Akinci2012::estimate(const std::vector<Boundar
 std::vector<Vector3r> ParticleBoundary_Akinci2012::sampleObject(const BoundaryObject& o, Real offset) const {
   return o.isBox ? sampleBoxSurface(offsetBox(o, offset, samplingDistance_, true), offsetBox(o, offset, samplingDistance_, false),
                                     samplingDistance_)
-                 : sampleMeshSurface(o.mesh, samplingDistance_, meshNormalOffset(o, offset));
+                 : sampleMeshSurface(o.mesh, samplingDistance_, meshNormalOffset(o, offset), log_, o.name.empty() ? o.path : o.name);
 }
 
 bool ParticleBoundary_Akinci2012::fluidReaches(const std::vector<Vector3r>& surfacePoints, const FluidModel& fluid,

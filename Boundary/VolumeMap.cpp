@@ -10,6 +10,7 @@
 #include "Boundary/MeshSampling.h"
 #include "Boundary/RestLayer.h"
 #include "Simulation/ResourceEstimate.h"
+#include "Utilities/TriangleBvh.h"
 
 namespace consph {
 
@@ -85,6 +86,7 @@ void VolumeMap::computeDistances(const BoundaryObject& object) {
   // Exact where the unsigned distance to the mesh is below band + offset (the offset may move
   // the surface that far).
   const Real meshBand = band_ + offset_;
+  const TriangleBvh surface(mesh);  // winding numbers in O(log n)
   std::vector<Vector3r> triLo(mesh.triangles.size()), triHi(mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
@@ -128,7 +130,7 @@ void VolumeMap::computeDistances(const BoundaryObject& object) {
           const Vector3r n = (mesh.vertices[tri[1]] - mesh.vertices[tri[0]]).cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
           insideSurface = outward * n.dot(x - bestPoint[s]) < 0;
         } else {
-          insideSurface = std::abs(windingNumber(mesh, x)) > Real(0.5);
+          insideSurface = std::abs(surface.windingNumber(x)) > Real(0.5);
         }
         phi_[std::size_t(k) * slice + s] = (insideSurface ? -fluidSign : fluidSign) * best[s];
       }

@@ -5,7 +5,10 @@
 
 #include <Eigen/Geometry>
 #include <assimp/Importer.hpp>
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "Utilities/Error.h"
 
@@ -38,6 +41,36 @@ TriangleMesh makeBoxMesh(const Vector3r& lo, const Vector3r& hi, bool inverted) 
     } else {
       m.triangles.push_back({Index(q[0]), Index(q[2]), Index(q[1])});
       m.triangles.push_back({Index(q[0]), Index(q[3]), Index(q[2])});
+    }
+  }
+  return m;
+}
+
+TriangleMesh makeSphereMesh(const Vector3r& centre, Real radius, int slices, int stacks) {
+  // Latitude-longitude grid: one vertex per pole, `slices` per inner ring, shared between
+  // neighbouring triangles (closed, two-manifold).
+  TriangleMesh m;
+  slices = std::max(slices, 3);
+  stacks = std::max(stacks, 2);
+  const double pi = 3.14159265358979323846;
+  m.vertices.push_back(centre + Vector3r(0, 0, radius));
+  for (int i = 1; i < stacks; ++i) {
+    const double theta = pi * i / stacks;
+    for (int j = 0; j < slices; ++j) {
+      const double phi = 2 * pi * j / slices;
+      m.vertices.push_back(centre + radius * Vector3r(Real(std::sin(theta) * std::cos(phi)), Real(std::sin(theta) * std::sin(phi)),
+                                                      Real(std::cos(theta))));
+    }
+  }
+  const Index south = Index(m.vertices.size());
+  m.vertices.push_back(centre - Vector3r(0, 0, radius));
+  auto ring = [&](int i, int j) { return Index(1 + (i - 1) * slices + (j % slices)); };  // i = 1 .. stacks - 1
+  for (int j = 0; j < slices; ++j) {
+    m.triangles.push_back({0, ring(1, j), ring(1, j + 1)});
+    m.triangles.push_back({south, ring(stacks - 1, j + 1), ring(stacks - 1, j)});
+    for (int i = 1; i + 1 < stacks; ++i) {
+      m.triangles.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
+      m.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
     }
   }
   return m;
@@ -98,6 +131,31 @@ Vector3r closestPointOnTriangle(const Vector3r& p, const Vector3r& a, const Vect
   if (onFace) *onFace = true;
   const Real denom = Real(1) / (va + vb + vc);
   return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+Real rayTriangleDistance(const Vector3r& o, const Vector3r& dir, const Vector3r& a, const Vector3r& b, const Vector3r& c) {
+  constexpr Real kMiss = std::numeric_limits<Real>::infinity();
+  const Vector3r e1 = b - a, e2 = c - a;
+  const Vector3r pv = dir.cross(e2);
+  const Real det = e1.dot(pv);
+  if (std::abs(det) < Real(1e-14)) return kMiss;
+  const Vector3r tv = o - a;
+  const Real u = tv.dot(pv) / det;
+  if (u < 0 || u > 1) return kMiss;
+  const Vector3r qv = tv.cross(e1);
+  const Real v = dir.dot(qv) / det;
+  if (v < 0 || u + v > 1) return kMiss;
+  const Real dist = e2.dot(qv) / det;
+  return dist > Real(1e-9) ? dist : kMiss;
+}
+
+double triangleSolidAngle(const Vector3r& p, const Vector3r& a, const Vector3r& b, const Vector3r& c) {
+  // In double: a winding number sums many of these, and float atan2 near 0/0 is noisy.
+  const Eigen::Vector3d u = (a - p).cast<double>(), v = (b - p).cast<double>(), w = (c - p).cast<double>();
+  const double lu = u.norm(), lv = v.norm(), lw = w.norm();
+  const double num = u.dot(v.cross(w));
+  const double den = lu * lv * lw + u.dot(v) * lw + v.dot(w) * lu + w.dot(u) * lv;
+  return 2 * std::atan2(num, den);
 }
 
 }  // namespace consph

@@ -19,6 +19,9 @@ struct TriangleMesh {
 // Axis-aligned box [lo, hi]; triangles face outwards, or inwards when `inverted` (a container).
 TriangleMesh makeBoxMesh(const Vector3r& lo, const Vector3r& hi, bool inverted);
 
+// Sphere of `slices` x `stacks` quads (2 slices (stacks - 1) triangles), outward-facing.
+TriangleMesh makeSphereMesh(const Vector3r& centre, Real radius, int slices, int stacks);
+
 // Loads OBJ, PLY, STL, ... with assimp (all meshes of the file merged, vertices joined).
 // Throws InputError naming the file when it is missing or unreadable.
 TriangleMesh loadMesh(const std::string& path);
@@ -30,5 +33,13 @@ void transformMesh(TriangleMesh& mesh, const Vector3r& scale, const Vector3r& ax
 // `onFace` (optional): set when the closest point lies inside the face, not on an edge or a vertex.
 Vector3r closestPointOnTriangle(const Vector3r& p, const Vector3r& a, const Vector3r& b, const Vector3r& c,
                                 bool* onFace = nullptr);
+
+// Distance t > 1e-9 along the ray o + t dir at which it crosses triangle abc, infinity when it
+// misses or runs parallel to it (Moeller & Trumbore 1997; edges and vertices count as hits).
+Real rayTriangleDistance(const Vector3r& o, const Vector3r& dir, const Vector3r& a, const Vector3r& b, const Vector3r& c);
+
+// Signed solid angle of triangle abc seen from p (positive when p is behind its winding normal:
+// inside a closed mesh with outward normals), in steradians (Van Oosterom & Strackee 1983).
+double triangleSolidAngle(const Vector3r& p, const Vector3r& a, const Vector3r& b, const Vector3r& c);
 
 }  // namespace consph

@@ -14,7 +14,8 @@ import subprocess
 from conftest import CLI, REPO
 
 SCENES = sorted(glob.glob(os.path.join(REPO, "data", "scenes", "*.json")))
-MUTANTS = 300
+# CONSPH_MUTANTS raises the count for a long run (issue 16's report: 2000); the suite runs 300.
+MUTANTS = int(os.environ.get("CONSPH_MUTANTS", "300"))
 TIMEOUT = 30  # s per run: the slowest bundled scene loads in 0.5 s
 
 VALUES = [None, True, False, "", "x", "../x", 0, -1, 1, 0.5, -0.5, 1e-308, 1e308, -1e308, 2 ** 63, -2 ** 63 - 1,
@@ -112,4 +113,5 @@ def test_mutants_end_with_an_allowed_outcome(tmp_path):
         elif code != 0 and (len(errors) != 1 or not errors[0].startswith("consph: error: ")):
             bad.append((index, kind, os.path.basename(scene_path), code, "not one error line: " + stderr[-400:]))
     summary = ", ".join("%s -> %s: %d" % (k, c, n) for (k, c), n in sorted(outcomes.items(), key=str))
+    print("%d mutants: %s" % (len(results), summary))  # the classes and counts, shown with pytest -s
     assert not bad, "%d bad outcomes (of %s):\n%s" % (len(bad), summary, "\n".join(map(str, bad[:20])))
