@@ -60,6 +60,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 from machine import machine_line  # noqa: E402
+import wall_pressure  # noqa: E402
 
 RHO0, G, SPACING = 1000.0, 9.81, 1.8566
 TANK_W = 8 * SPACING * 0.025
@@ -122,15 +123,10 @@ def buoyancy_scene(cfg, r):
 
 
 def jet_scene(cfg, r):
-    a = 0.04
-    rm = 6 * a
-    return {"simulation": dict(simulation_block(cfg, r, 0.6, gravity=False), domain={"min": [-1, -1, -1], "max": [1, 1, 1]}),
-            "fluids": [{"name": "water", "forces": [{"type": "StandardViscosity", "viscosity": 0.001}],
-                        "emitters": [{"shape": "circle", "position": [0, 5 * a, 0], "direction": [0, -1, 0], "speed": 2.0, "radius": a}],
-                        "removeOutside": {"min": [-rm, -0.1, -rm], "max": [rm, 5 * a + 0.3, rm]}}],
-            "boundaries": [{"name": "plate", "box": {"min": [-rm - 0.1, -0.05, -rm - 0.1], "max": [rm + 0.1, 0, rm + 0.1]}}],
-            "probes": [{"name": "plate", "kind": "force", "boundary": "plate"}],
-            "output": {"enabled": False}}, None
+    # bench/wall_pressure.py's jet (the test Jet's scene) at radius r and this point's solver block.
+    scene = wall_pressure.jet_scene(cfg["solver"], cfg["model"], cfg["treatment"])
+    scene["simulation"].update(simulation_block(cfg, r, 0.6, gravity=False))
+    return scene, None
 
 
 def read_martin_moyce():
