@@ -25,7 +25,7 @@ const PluginRegistration<BoundaryModel> registration{
 }  // namespace
 
 std::vector<ParamSpec> VolumeMapBoundary_Bender2019::parameters() {
-  return {{"cellSize", ParamType::Real, 2.0, "grid spacing of the distance and volume maps, in particle radii r", 0.25, 8.0},
+  return {{"cellSize", ParamType::Real, 1.0, "grid spacing of the distance and volume maps, in particle radii r (2 r: a tank filled to its walls starts at up to 2.1 rho0 in a corner)", 0.25, 8.0},
           {"surfaceOffset", ParamType::Real, -1.0,
            "distance the boundary surface is moved into the solid, in r; -1: computed so the resting fluid's surface "
            "lies on the mesh (1.35 r with the defaults); 0: the mesh itself (Bender et al. 2019)",

@@ -39,7 +39,7 @@ ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 from machine import machine_line  # noqa: E402
 
-SOLVERS = ["DFSPH", "IISPH"]
+SOLVERS = ["DFSPH", "IISPH", "WCSPH"]
 MODELS = ["Akinci2012", "VolumeMap"]
 TREATMENTS = ["consistent", "mirroring", "extrapolation"]
 R, RHO0, G = 0.025, 1000.0, 9.81

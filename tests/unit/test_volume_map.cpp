@@ -233,14 +233,18 @@ TEST(VolumeMapBoundary, AMovingBodysMapTurnsWithIt) {
   EXPECT_NEAR(model->samples().masses[unturned.indices[unturned.begin(0)]], mass, Real(1e-9) * mass);
 }
 
-TEST(VolumeMapBoundary, ExtrapolationWarnsThatItIsMirroringHere) {
-  json s = {{"simulation", {{"particleRadius", 0.025}, {"boundaryModel", "VolumeMap"}, {"boundaryPressure", "extrapolation"}}},
-            {"fluids", {{{"blocks", {{{"min", {0.1, 0.1, 0.1}}, {"max", {0.3, 0.3, 0.3}}}}}}}},
-            {"boundaries", {{{"box", {{"min", {0, 0, 0}}, {"max", {1, 1, 1}}}}, {"inverted", true}}}}};
-  test::CapturedLog log;
-  test::simulationFromJson(s, log.sink());
-  ASSERT_EQ(log.warnings.size(), 1u);
-  EXPECT_NE(log.warnings[0].find("p_k = p_i, as mirroring"), std::string::npos) << log.warnings[0];
+// Mirroring and extrapolation push with p_k = p_i from the one virtual particle: the log says so.
+TEST(VolumeMapBoundary, MirroringAndExtrapolationWarnThatTheyArePkEqualsPi) {
+  for (const char* treatment : {"mirroring", "extrapolation"}) {
+    json s = {{"simulation", {{"particleRadius", 0.025}, {"boundaryModel", "VolumeMap"}, {"boundaryPressure", treatment}}},
+              {"fluids", {{{"blocks", {{{"min", {0.1, 0.1, 0.1}}, {"max", {0.3, 0.3, 0.3}}}}}}}},
+              {"boundaries", {{{"box", {{"min", {0, 0, 0}}, {"max", {1, 1, 1}}}}, {"inverted", true}}}}};
+    test::CapturedLog log;
+    test::simulationFromJson(s, log.sink());
+    ASSERT_EQ(log.warnings.size(), 1u) << treatment;
+    EXPECT_NE(log.warnings[0].find("p_k = p_i"), std::string::npos) << log.warnings[0];
+    EXPECT_NE(log.warnings[0].find(treatment), std::string::npos) << log.warnings[0];
+  }
 }
 
 // Moving bodies take their map along; they have no sample layers for rigid contact, which the
