@@ -9,6 +9,7 @@
 
 #include "Simulation/JsonLimits.h"
 #include "Simulation/MeshVolumeSampling.h"
+#include "Simulation/SceneFile.h"
 #include "Simulation/SplishSplashScene.h"
 #include "Utilities/Error.h"
 #include "Utilities/MeshClosure.h"
@@ -617,7 +618,7 @@ SceneDescription loadSceneFile(const std::string& path, const std::vector<std::p
     }
   }
   for (auto& [key, value] : overrides) applyOverride(scene, key, value);
-  if (!splishsplash) return parseScene(scene, dir, log);
+  if (!splishsplash) return namingSceneFile(path, [&] { return parseScene(scene, dir, log); });
   try {
     return parseScene(scene, dir, log);
   } catch (const InputError& e) {
