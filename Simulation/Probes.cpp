@@ -7,6 +7,7 @@
 #include <set>
 
 #include "Utilities/Error.h"
+#include "Utilities/Text.h"
 
 namespace consph {
 
@@ -39,11 +40,12 @@ std::vector<ProbeDescription> parseProbes(const json& probes, const LogSink& log
     } else {
       throw InputError(path + ".kind: unknown probe kind '" + kind + "'; valid are: force, level, pressure");
     }
-    Params p(probes[i], path, specs, log, {"kind", "region"});
+    // "region" only for force probes: on the others it is an unknown key, warned about.
+    Params p(probes[i], path, specs, log, d.kind == ProbeKind::Force ? std::vector<std::string>{"kind", "region"} : std::vector<std::string>{"kind"});
     d.name = p.string("name");
     if (d.name.empty()) throw InputError(p.pathOf("name") + ": must not be empty");
-    if (d.name.find_first_of(",\"\n\r") != std::string::npos)
-      throw InputError(p.pathOf("name") + ": must not contain a comma, a quote or a line break (it is a CSV column)");
+    if (!printableUtf8(d.name) || d.name.find_first_of(",\"") != std::string::npos)
+      throw InputError(p.pathOf("name") + ": must be printable UTF-8 text without a comma or a quote (it is a CSV column)");
     if (!names.insert(d.name).second) throw InputError(p.pathOf("name") + ": another probe is already named '" + d.name + "'");
     if (d.kind == ProbeKind::Force) {
       d.boundary = p.string("boundary");

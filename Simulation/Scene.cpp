@@ -2,16 +2,19 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "Simulation/JsonLimits.h"
 #include "Simulation/MeshVolumeSampling.h"
+#include "Simulation/SceneFile.h"
 #include "Simulation/SplishSplashScene.h"
 #include "Utilities/Error.h"
 #include "Utilities/MeshClosure.h"
 #include "Utilities/PointFile.h"
+#include "Utilities/Text.h"
 
 namespace consph {
 
@@ -84,41 +87,20 @@ namespace {
 
 std::string at(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
 
-const json& child(const json& object, const std::string& key) {
+// The value of `key` in `object` (at `path`), null when the key is absent. A null written in the
+// scene is not an absent key: it would stand for the default silently, so it is a wrong type
+// (`expected` says what the key takes).
+const json& child(const json& object, const std::string& path, const std::string& key, const char* expected) {
   static const json null;
   if (!object.is_object()) return null;
   auto it = object.find(key);
-  return it == object.end() ? null : *it;
+  if (it == object.end()) return null;
+  if (it->is_null()) throw InputError(at(path, key) + ": expected " + expected + ", got null (leave the key out for its default)");
+  return *it;
 }
 
 void expectObject(const json& v, const std::string& path) {
   if (!v.is_object()) throw InputError(path + ": expected an object");
-}
-
-// Valid UTF-8 without control characters (0x00-0x1f, 0x7f); overlong forms and surrogates are
-// invalid.
-bool printableUtf8(const std::string& s) {
-  for (std::size_t i = 0; i < s.size();) {
-    const unsigned char c = static_cast<unsigned char>(s[i]);
-    if (c < 0x20 || c == 0x7f) return false;
-    if (c < 0x80) {
-      ++i;
-      continue;
-    }
-    // Lead byte: 2, 3 or 4 bytes in all (0xc0, 0xc1 and above 0xf4 never start a valid sequence).
-    const int extra = c >= 0xc2 && c <= 0xdf ? 1 : c >= 0xe0 && c <= 0xef ? 2 : c >= 0xf0 && c <= 0xf4 ? 3 : -1;
-    if (extra < 0 || i + std::size_t(extra) >= s.size()) return false;  // bad lead byte, or truncated
-    std::uint32_t cp = c & (0x3fu >> extra);
-    for (int k = 1; k <= extra; ++k) {
-      const unsigned char cc = static_cast<unsigned char>(s[i + std::size_t(k)]);
-      if ((cc & 0xc0) != 0x80) return false;
-      cp = (cp << 6) | (cc & 0x3f);
-    }
-    if ((extra == 2 && cp < 0x800) || (extra == 3 && (cp < 0x10000 || cp > 0x10ffff)) || (cp >= 0xd800 && cp <= 0xdfff))
-      return false;
-    i += std::size_t(extra) + 1;
-  }
-  return true;
 }
 
 // A fluid's name becomes file names (NAME_00001.vtu, NAME.pvd) and XML attributes in the .pvd:
@@ -130,6 +112,30 @@ void checkFileName(const std::string& name, const std::string& path) {
     throw InputError(path + ": '" + name + "' must not contain '/', '\\' or '..' or start with '.' (it names the output files)");
   if (name.find_first_of("<>&\"'") != std::string::npos)
     throw InputError(path + ": '" + name + "' must not contain < > & \" or ' (it is written into the .pvd's XML)");
+}
+
+// A boundary's name is a field of bodies.csv and appears in messages.
+void checkObjectName(const std::string& name, const std::string& path) {
+  if (!printableUtf8(name) || name.find_first_of(",\"") != std::string::npos)
+    throw InputError(path + ": must be printable UTF-8 text without a comma or a quote (it is a field of bodies.csv)");
+}
+
+// The index of an earlier item of `list` equal to item i, `ignored` left out of the comparison;
+// npos when there is none.
+std::size_t earlierEqual(const json& list, std::size_t i, const std::string& ignored = "") {
+  json item = list[i];
+  if (item.is_object()) item.erase(ignored);
+  for (std::size_t k = 0; k < i; ++k) {
+    json other = list[k];
+    if (other.is_object()) other.erase(ignored);
+    if (other == item) return k;
+  }
+  return std::string::npos;
+}
+
+std::string lowerCase(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
 }
 
 std::string resolvePath(const std::string& baseDir, const std::string& file) {
@@ -154,11 +160,11 @@ const std::vector<ParamSpec>& placementSpecs() {
 PlacementKeys placement(const Params& p) {
   PlacementKeys k{p.vector3("translation"), p.vector3("scale"), p.vector3("rotationAxis"), p.real("rotationAngle")};
   if (k.scale.cwiseAbs().minCoeff() == 0) throw InputError(p.pathOf("scale") + ": must not be 0 on any axis (the object would be flat)");
-  if (k.angle != 0 && k.axis.norm() == 0) throw InputError(p.pathOf("rotationAxis") + ": must not be the zero vector when rotationAngle is not 0");
+  if (k.angle != 0 && k.axis.isZero(0)) throw InputError(p.pathOf("rotationAxis") + ": must not be the zero vector when rotationAngle is not 0");
   return k;
 }
 Matrix3r rotationOf(const PlacementKeys& k) {
-  return k.angle == 0 ? Matrix3r::Identity() : Matrix3r(Eigen::AngleAxis<Real>(k.angle, k.axis.normalized()).toRotationMatrix());
+  return k.angle == 0 ? Matrix3r::Identity() : Matrix3r(Eigen::AngleAxis<Real>(k.angle, k.axis.stableNormalized()).toRotationMatrix());
 }
 
 // "dynamic", "density", "velocity", "angularVelocity", "animated" and "hinge" of a boundary.
@@ -181,6 +187,7 @@ void parseBodyMotion(const json& b, const Params& p, BoundaryObject& o, const Lo
   }
   if (animated) {
     o.motion = BodyMotion::Animated;
+    expectObject(b["animated"], at(path, "animated"));
     Params ap(b["animated"], at(path, "animated"),
               {{"velocity", ParamType::Vector3, json::array({0, 0, 0}), "prescribed velocity, m/s"},
                {"angularVelocity", ParamType::Vector3, json::array({0, 0, 0}), "prescribed angular velocity about the centre, rad/s"}},
@@ -190,6 +197,7 @@ void parseBodyMotion(const json& b, const Params& p, BoundaryObject& o, const Lo
   }
   if (b.contains("hinge")) {
     const std::string hp = at(path, "hinge");
+    expectObject(b["hinge"], hp);
     Params h(b["hinge"], hp,
              {{"point", ParamType::Vector3, json(), "a point on the axle, m"},
               {"axis", ParamType::Vector3, json(), "axle direction (normalised)"}},
@@ -197,9 +205,10 @@ void parseBodyMotion(const json& b, const Params& p, BoundaryObject& o, const Lo
     o.hinge.enabled = true;
     o.hinge.point = h.vector3("point");
     const Vector3r axis = h.vector3("axis");
-    if (axis.norm() < Real(1e-9)) throw InputError(at(hp, "axis") + ": must not be the zero vector");
-    o.hinge.axis = axis.normalized();
+    if (axis.isZero(0)) throw InputError(at(hp, "axis") + ": must not be the zero vector");
+    o.hinge.axis = axis.stableNormalized();
     if (b["hinge"].contains("motor")) {
+      expectObject(b["hinge"]["motor"], at(hp, "motor"));
       Params m(b["hinge"]["motor"], at(hp, "motor"),
                {{"targetVelocity", ParamType::Real, json(), "target angular velocity about the axis, rad/s"},
                 {"maxTorque", ParamType::Real, json(), "largest torque the motor exerts, N m", 0, 1e12}},
@@ -228,6 +237,7 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
   Params p(b, path, specs, log, {"box", "animated", "hinge", "density"});
   BoundaryObject o;
   o.name = p.string("name");
+  if (!o.name.empty()) checkObjectName(o.name, p.pathOf("name"));
   o.path = path;
   o.inverted = p.boolean("inverted");
   o.friction = p.real("friction");
@@ -236,6 +246,7 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
   const Vector3r translation = placed.translation, scale = placed.scale, axis = placed.axis;
   const Real angle = placed.angle;
   if (hasBox) {
+    expectObject(b["box"], at(path, "box"));
     Params box(b["box"], at(path, "box"),
                {{"min", ParamType::Vector3, json(), "lower corner, m"}, {"max", ParamType::Vector3, json(), "upper corner, m"}},
                log, {});
@@ -347,8 +358,8 @@ EmitterDescription parseEmitter(const json& e, const std::string& path, const Lo
   d.circle = p.string("shape") == "circle";
   d.position = p.vector3("position");
   d.direction = p.vector3("direction");
-  if (d.direction.norm() < Real(1e-9)) throw InputError(p.pathOf("direction") + ": must not be the zero vector");
-  d.direction.normalize();
+  if (d.direction.isZero(0)) throw InputError(p.pathOf("direction") + ": must not be the zero vector");
+  d.direction.stableNormalize();  // normalize() overflows to zero on [1e200, 0, 0]
   d.speed = p.real("speed");
   d.width = p.real("width");
   d.height = p.real("height");
@@ -369,11 +380,13 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   SceneDescription s;
   s.raw = scene;
   s.baseDir = baseDir;
-  Params top(scene, "", {{"name", ParamType::String, "", "name of the scene (the summary's \"scene\")"}}, log,
-             {"description", "simulation", "fluids", "boundaries", "probes", "output"});
+  Params top(scene, "",
+             {{"name", ParamType::String, "", "name of the scene (the summary's \"scene\")"},
+              {"description", ParamType::String, "", "free text"}},
+             log, {"simulation", "fluids", "boundaries", "probes", "output"});
 
   // simulation
-  const json& sim = child(scene, "simulation");
+  const json& sim = child(scene, "", "simulation", "an object");
   if (!sim.is_null()) expectObject(sim, "simulation");
   Params sp(sim, "simulation",
             {{"particleRadius", ParamType::Real, 0.025, "particle radius r, m (kernel support 4r)", 1e-5, 10},
@@ -414,10 +427,10 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   s.boundaryPressure = bp == "mirroring" ? BoundaryPressure::Mirroring
                        : bp == "extrapolation" ? BoundaryPressure::Extrapolation
                                                : BoundaryPressure::Consistent;
-  s.pressureSolver = child(sim, "pressureSolver");
+  s.pressureSolver = child(sim, "simulation", "pressureSolver", "an object or a plugin name");
   if (s.pressureSolver.is_null()) s.pressureSolver = {{"type", "DFSPH"}};
   if (s.pressureSolver.is_string()) s.pressureSolver = {{"type", s.pressureSolver}};
-  s.boundaryModel = child(sim, "boundaryModel");
+  s.boundaryModel = child(sim, "simulation", "boundaryModel", "an object or a plugin name");
   if (s.boundaryModel.is_null()) s.boundaryModel = {{"type", "Akinci2012"}};
   if (s.boundaryModel.is_string()) s.boundaryModel = {{"type", s.boundaryModel}};
   for (auto* plugin : {&s.pressureSolver, &s.boundaryModel}) {
@@ -427,7 +440,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
     if (!plugin->contains("type")) (*plugin)["type"] = solver ? "DFSPH" : "Akinci2012";  // the documented defaults
     if (!(*plugin)["type"].is_string()) throw InputError(path + ".type: expected a string naming the plugin");
   }
-  if (const json& d = child(sim, "domain"); !d.is_null()) {
+  if (const json& d = child(sim, "simulation", "domain", "an object"); !d.is_null()) {
     Params dp(d, "simulation.domain",
               {{"min", ParamType::Vector3, json(), "lower corner, m"}, {"max", ParamType::Vector3, json(), "upper corner, m"}}, log, {});
     s.hasDomain = true;
@@ -437,7 +450,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   }
 
   // fluids
-  const json& fluids = child(scene, "fluids");
+  const json& fluids = child(scene, "", "fluids", "a non-empty array of fluids");
   if (!fluids.is_array() || fluids.empty()) throw InputError("fluids: expected a non-empty array of fluids");
   if (fluids.size() > 1) throw InputError("fluids: only one fluid per scene is supported in this version");
   for (std::size_t f = 0; f < fluids.size(); ++f) {
@@ -452,20 +465,36 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
     checkFileName(fd.name, fp.pathOf("name"));
     fd.density0 = fp.real("density0");
     fd.path = path;
-    fd.forces = child(fluids[f], "forces");
+    fd.forces = child(fluids[f], path, "forces", "an array of force objects");
     if (fd.forces.is_null()) fd.forces = json::array();
     if (!fd.forces.is_array()) throw InputError(path + ".forces: expected an array of force objects");
     for (std::size_t i = 0; i < fd.forces.size(); ++i) {
       const std::string fpth = path + ".forces[" + std::to_string(i) + "]";
       expectObject(fd.forces[i], fpth);
       if (!fd.forces[i].contains("type") || !fd.forces[i]["type"].is_string()) throw InputError(fpth + ".type: required string is missing");
+      // One force of each type: a second instance would share the first's particle fields
+      // (ParticleFields::add hands out the field of that name), each overwriting the other's state.
+      const std::string type = fd.forces[i]["type"].get<std::string>();
+      for (std::size_t k = 0; k < i; ++k)
+        if (lowerCase(fd.forces[k]["type"].get<std::string>()) == lowerCase(type))
+          throw InputError(fpth + ": a second " + type + " (" + path + ".forces[" + std::to_string(k) +
+                           "] is one): give each force once, with the coefficients it needs");
     }
-    const json& blocks = child(fluids[f], "blocks");
-    const json& emitters = child(fluids[f], "emitters");
+    const json& blocks = child(fluids[f], path, "blocks", "an array of blocks");
+    const json& emitters = child(fluids[f], path, "emitters", "an array of emitters");
     if (!emitters.is_null() && !emitters.is_array()) throw InputError(path + ".emitters: expected an array of emitters");
-    for (std::size_t e = 0; e < emitters.size(); ++e)
+    // Two equal sources (emitters, particle files, mesh volumes) or overlapping blocks would put
+    // particles on top of each other: the fluid would start at twice its rest density there.
+    auto checkDistinct = [&](const json& list, std::size_t i, const std::string& key) {
+      if (const std::size_t k = earlierEqual(list, i); k != std::string::npos)
+        throw InputError(path + "." + key + "[" + std::to_string(i) + "]: the same as " + path + "." + key + "[" + std::to_string(k) +
+                         "]: their particles would lie on top of each other");
+    };
+    for (std::size_t e = 0; e < emitters.size(); ++e) {
       fd.emitters.push_back(parseEmitter(emitters[e], path + ".emitters[" + std::to_string(e) + "]", log));
-    if (const json& ro = child(fluids[f], "removeOutside"); !ro.is_null()) {
+      checkDistinct(emitters, e, "emitters");
+    }
+    if (const json& ro = child(fluids[f], path, "removeOutside", "an object"); !ro.is_null()) {
       Params rp(ro, path + ".removeOutside",
                 {{"min", ParamType::Vector3, json(), "lower corner, m"}, {"max", ParamType::Vector3, json(), "upper corner, m"}}, log, {});
       fd.removeOutside = true;
@@ -474,12 +503,13 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
       if ((fd.removeMax - fd.removeMin).minCoeff() <= 0) throw InputError(path + ".removeOutside: max must exceed min on every axis");
     }
     for (const char* key : {"particleFiles", "meshVolumes"}) {
-      const json& list = child(fluids[f], key);
+      const json& list = child(fluids[f], path, key, "an array");
       if (!list.is_null() && !list.is_array()) throw InputError(path + "." + key + ": expected an array");
       for (std::size_t i = 0; i < list.size(); ++i) {
         const std::string ipath = path + "." + key + "[" + std::to_string(i) + "]";
         if (std::string(key) == "particleFiles") parseParticleFile(list[i], ipath, baseDir, log, fd);
         else parseMeshVolume(list[i], ipath, baseDir, s.particleSpacing * s.particleRadius, s.particleRadius, log, fd);
+        checkDistinct(list, i, key);
       }
     }
     if (!blocks.is_null() && !blocks.is_array()) throw InputError(path + ".blocks: expected an array of blocks");
@@ -499,19 +529,33 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
                  log, {});
       FluidBlock block{bp2.vector3("min"), bp2.vector3("max"), bp2.vector3("velocity"), blockLatticeFromName(bp2.string("lattice"))};
       if ((block.max - block.min).minCoeff() <= 0) throw InputError(bpth + ": max must exceed min on every axis");
+      for (std::size_t e = 0; e < fd.blocks.size(); ++e)
+        if ((block.max.cwiseMin(fd.blocks[e].max) - block.min.cwiseMax(fd.blocks[e].min)).minCoeff() > 0)
+          throw InputError(bpth + ": overlaps " + path + ".blocks[" + std::to_string(e) + "]: their particles would lie on top of each other");
       fd.blocks.push_back(block);
     }
     s.fluids.push_back(std::move(fd));
   }
 
   // boundaries
-  const json& boundaries = child(scene, "boundaries");
+  const json& boundaries = child(scene, "", "boundaries", "an array");
   if (!boundaries.is_null() && !boundaries.is_array()) throw InputError("boundaries: expected an array");
-  for (std::size_t b = 0; b < boundaries.size(); ++b)
-    s.boundaries.push_back(parseBoundary(boundaries[b], "boundaries[" + std::to_string(b) + "]", baseDir, log));
+  for (std::size_t b = 0; b < boundaries.size(); ++b) {
+    const std::string path = "boundaries[" + std::to_string(b) + "]";
+    s.boundaries.push_back(parseBoundary(boundaries[b], path, baseDir, log));
+    // Force probes and bodies.csv tell objects by name; the same object twice is coincident walls
+    // or bodies.
+    const std::string& name = s.boundaries[b].name;
+    for (std::size_t e = 0; e < b && !name.empty(); ++e)
+      if (s.boundaries[e].name == name)
+        throw InputError(path + ".name: '" + name + "' already names boundaries[" + std::to_string(e) +
+                         "] (force probes and bodies.csv tell objects by name)");
+    if (const std::size_t e = earlierEqual(boundaries, b, "name"); e != std::string::npos)
+      throw InputError(path + ": the same object as boundaries[" + std::to_string(e) + "] (equal but for the name): coincident walls or bodies");
+  }
 
   // output
-  const json& out = child(scene, "output");
+  const json& out = child(scene, "", "output", "an object");
   constexpr double inf = std::numeric_limits<double>::infinity();
   Params op(out, "output",
             {{"enabled", ParamType::Bool, true, "write frames"},
@@ -529,6 +573,8 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
             log, {"attributes"});
   s.output.enabled = op.boolean("enabled");
   s.output.directory = op.string("directory");
+  if (s.output.directory.empty() || !printableUtf8(s.output.directory))
+    throw InputError("output.directory: must name a folder (non-empty printable UTF-8 text)");
   s.output.fps = op.real("fps");
   s.output.probeFps = op.real("probeFps");
   s.output.overwrite = op.boolean("overwrite");
@@ -553,7 +599,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   }
 
   // probes (resolved against the boundaries when the simulation is built)
-  s.probes = parseProbes(child(scene, "probes"), log);
+  s.probes = parseProbes(child(scene, "", "probes", "an array of probe objects"), log);
   return s;
 }
 
@@ -572,7 +618,7 @@ SceneDescription loadSceneFile(const std::string& path, const std::vector<std::p
     }
   }
   for (auto& [key, value] : overrides) applyOverride(scene, key, value);
-  if (!splishsplash) return parseScene(scene, dir, log);
+  if (!splishsplash) return namingSceneFile(path, [&] { return parseScene(scene, dir, log); });
   try {
     return parseScene(scene, dir, log);
   } catch (const InputError& e) {

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "Simulation/FrameSeries.h"
+#include "Simulation/SceneFile.h"
 #include "Utilities/LineFile.h"
 #include "Utilities/OutputFolder.h"
 #include "Boundary/RigidBodyGuard.h"
@@ -717,7 +718,7 @@ std::unique_ptr<Simulation> loadSimulation(const std::string& scenePath,
                                            const std::vector<std::pair<std::string, std::string>>& overrides, LogSink log,
                                            const PluginRegistry& plugins) {
   SceneDescription scene = loadSceneFile(scenePath, overrides, log);
-  return std::make_unique<Simulation>(std::move(scene), plugins, std::move(log));
+  return namingSceneFile(scenePath, [&] { return std::make_unique<Simulation>(std::move(scene), plugins, std::move(log)); });
 }
 
 }  // namespace consph

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "Simulation/SceneFile.h"
 #include "Simulation/Simulation.h"
 #include "Simulation/SplishSplashScene.h"
 #include "Utilities/Error.h"
@@ -206,7 +207,7 @@ int main(int argc, char** argv) {
     if (o.maxParticles > 0) o.overrides.emplace_back("simulation.maxParticles", json(o.maxParticles).dump());
     SceneDescription scene = loadSceneFile(o.scene, o.overrides, log);
     scene.restartFrom = o.restart;
-    auto sim = std::make_unique<Simulation>(std::move(scene), builtinPlugins(), log);
+    auto sim = namingSceneFile(o.scene, [&] { return std::make_unique<Simulation>(std::move(scene), builtinPlugins(), log); });
 
     const double stopAt = o.stopAt >= 0 ? o.stopAt : double(sim->scene().stopAt);
     if (!o.quiet)

@@ -103,7 +103,8 @@ TriangleMesh loadMesh(const std::string& path) {
 
 void transformMesh(TriangleMesh& mesh, const Vector3r& scale, const Vector3r& axis, Real angle, const Vector3r& translation) {
   Matrix3r R = Matrix3r::Identity();
-  if (axis.norm() > 0) R = Eigen::AngleAxis<Real>(angle, axis.normalized()).toRotationMatrix();
+  // stableNormalized: normalized() overflows to the zero vector on [1e200, 0, 0].
+  if (!axis.isZero(0)) R = Eigen::AngleAxis<Real>(angle, axis.stableNormalized()).toRotationMatrix();
   for (auto& v : mesh.vertices) v = R * v.cwiseProduct(scale) + translation;
   // A mirroring scale flips the orientation; keep the normals pointing the same way.
   if (scale.prod() < 0)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "Simulation/SceneFile.h"
 #include "Utilities/Progress.h"
 #include "Utilities/ThreadCount.h"
 #include "Utilities/Timer.h"
@@ -214,8 +215,10 @@ in C++ with the GIL released. Particle arrays are zero-copy NumPy views: see Flu
              const py::object& output, const py::object& restart) {
             const std::string file = pathArgument(path);
             const json scene = applyOptions(readJsonFile(file), overrides, output);
-            return PySimulation::create(scene, std::filesystem::path(file).parent_path().string(), pluginsArgument(plugins),
-                                        std::move(log), restart.is_none() ? std::string() : pathArgument(restart));
+            return namingSceneFile(file, [&] {
+              return PySimulation::create(scene, std::filesystem::path(file).parent_path().string(), pluginsArgument(plugins),
+                                          std::move(log), restart.is_none() ? std::string() : pathArgument(restart));
+            });
           },
           py::arg("path"), py::kw_only(), py::arg("overrides") = py::none(), py::arg("plugins") = py::none(),
           py::arg("log") = py::none(), py::arg("output") = py::none(), py::arg("restart") = py::none(),

@@ -68,10 +68,10 @@ TEST(InputFailures, NonStringNameNamesThePath) {
   const std::string dir = tempDir("consph_input_name");
   json scene = tinyScene();
   scene["name"] = 5;
-  expectRefused(runScene(dir, scene.dump(), ""), "error: name: expected a string, got number 5");
+  expectRefused(runScene(dir, scene.dump(), ""), "error: " + dir + "/scene.json: name: expected a string, got number 5");
   scene = tinyScene();
   scene["fluids"][0]["name"] = json::array();
-  expectRefused(runScene(dir, scene.dump(), ""), "error: fluids[0].name: expected a string");
+  expectRefused(runScene(dir, scene.dump(), ""), "error: " + dir + "/scene.json: fluids[0].name: expected a string");
 }
 
 TEST(InputFailures, DeepJsonIsAnErrorNotACrash) {
@@ -126,4 +126,19 @@ TEST(InputFailures, OversizedScenesAreRefusedUpFrontAndMaxParticlesSetsTheLimit)
   EXPECT_NE(r.output.find("half this machine's memory"), std::string::npos) << r.output;
   expectRefused(runScene(dir, tinyScene().dump(), "--max-particles 100"), "more than the limit of 100 particles");
   EXPECT_EQ(runScene(dir, tinyScene().dump(), "--max-particles 10000").status, 0);
+}
+
+TEST(InputFailures, SceneErrorsNameTheFileAndTheJsonPath) {
+  // The scene file before the JSON path, also for errors found when the simulation is built
+  // (an unknown plugin) and for a check of the scene's meaning (the same boundary twice).
+  const std::string dir = tempDir("consph_input_names_file");
+  json scene = tinyScene();
+  scene["fluids"][0]["forces"] = nullptr;
+  expectRefused(runScene(dir, scene.dump(), ""), dir + "/scene.json: fluids[0].forces: expected an array of force objects, got null");
+  scene = tinyScene();
+  scene["simulation"]["pressureSolver"] = "NoSuchSolver";
+  expectRefused(runScene(dir, scene.dump(), ""), dir + "/scene.json: simulation.pressureSolver.type: unknown pressure solver 'NoSuchSolver'");
+  scene = tinyScene();
+  scene["boundaries"].push_back(scene["boundaries"][0]);
+  expectRefused(runScene(dir, scene.dump(), ""), dir + "/scene.json: boundaries[1]: the same object as boundaries[0]");
 }

@@ -161,3 +161,144 @@ TEST(Scene, OverridesSetAnyValueByDottedPath) {
   EXPECT_THROW(applyOverride(s, "fluids.7.density0", "1"), InputError);
   EXPECT_THROW(applyOverride(s, "simulation.particleRadius.x", "1"), InputError);
 }
+
+// Issue 16's mutation test, exit 0 on invalid input: each scene below ran to the end (exit 0)
+// before its check existed. Parsed only, no simulation built.
+namespace {
+std::string parseErrorOf(const json& scene) {
+  try {
+    parseScene(scene, CONSPH_TEST_DATA_DIR "/scenes", {});
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+#define EXPECT_REFUSED(scene, text) EXPECT_NE(parseErrorOf(scene).find(text), std::string::npos) << parseErrorOf(scene)
+}  // namespace
+
+TEST(SceneValidation, NullIsAWrongTypeNotTheDefault) {
+  // A null written for an object or array key used to stand for the key's default silently.
+  const std::vector<std::pair<json::json_pointer, std::string>> cases = {
+      {json::json_pointer("/simulation"), "simulation: expected an object, got null"},
+      {json::json_pointer("/simulation/pressureSolver"), "simulation.pressureSolver: expected an object or a plugin name, got null"},
+      {json::json_pointer("/simulation/boundaryModel"), "simulation.boundaryModel: expected an object or a plugin name, got null"},
+      {json::json_pointer("/simulation/domain"), "simulation.domain: expected an object, got null"},
+      {json::json_pointer("/fluids/0/forces"), "fluids[0].forces: expected an array of force objects, got null"},
+      {json::json_pointer("/fluids/0/emitters"), "fluids[0].emitters: expected an array of emitters, got null"},
+      {json::json_pointer("/fluids/0/removeOutside"), "fluids[0].removeOutside: expected an object, got null"},
+      {json::json_pointer("/fluids/0/particleFiles"), "fluids[0].particleFiles: expected an array, got null"},
+      {json::json_pointer("/fluids/0/meshVolumes"), "fluids[0].meshVolumes: expected an array, got null"},
+      {json::json_pointer("/boundaries"), "boundaries: expected an array, got null"},
+      {json::json_pointer("/output"), "output: expected an object, got null"},
+      {json::json_pointer("/probes"), "probes: expected an array of probe objects, got null"},
+      {json::json_pointer("/description"), "description: expected a string, got null"}};
+  for (auto& [pointer, message] : cases) {
+    json s = minimalScene();
+    s[pointer] = nullptr;
+    EXPECT_REFUSED(s, message);
+  }
+  json s = minimalScene();  // a moving body: a container cannot be animated
+  s["boundaries"].push_back({{"box", {{"min", {0.2, 0.6, 0.2}}, {"max", {0.3, 0.7, 0.3}}}}, {"animated", nullptr}});
+  EXPECT_REFUSED(s, "boundaries[1].animated: expected an object");
+}
+
+TEST(SceneValidation, DescriptionIsText) {
+  json s = minimalScene();
+  s["description"] = json::array({1});
+  EXPECT_REFUSED(s, "description: expected a string, got array [1]");
+}
+
+TEST(SceneValidation, BoundaryNamesArePrintableCsvFieldsAndUnique) {
+  for (const char* name : {"ta,nk", "ta\"nk", "ta\nnk", "ta\tnk", "\xc2\x85"}) {  // the last: U+0085, a C1 control
+    json s = minimalScene();
+    s["boundaries"][0]["name"] = name;
+    EXPECT_REFUSED(s, "boundaries[0].name: must be printable UTF-8 text without a comma or a quote");
+  }
+  json s = minimalScene();
+  s["boundaries"][0]["name"] = "tank";
+  s["boundaries"].push_back({{"name", "tank"}, {"box", {{"min", {0.2, 0.6, 0.2}}, {"max", {0.3, 0.7, 0.3}}}}});
+  EXPECT_REFUSED(s, "boundaries[1].name: 'tank' already names boundaries[0]");
+  s["boundaries"][1]["name"] = "lid";
+  EXPECT_EQ(parseErrorOf(s), "(no error)");
+}
+
+TEST(SceneValidation, TheSameBoundaryTwiceIsRefused) {
+  json s = minimalScene();
+  s["boundaries"][0]["name"] = "tank";
+  s["boundaries"].push_back(s["boundaries"][0]);
+  s["boundaries"][1]["name"] = "tank2";
+  EXPECT_REFUSED(s, "boundaries[1]: the same object as boundaries[0] (equal but for the name)");
+}
+
+TEST(SceneValidation, OverlappingBlocksAreRefusedTouchingOnesAreNot) {
+  json s = minimalScene();
+  s["fluids"][0]["blocks"].push_back(s["fluids"][0]["blocks"][0]);
+  EXPECT_REFUSED(s, "fluids[0].blocks[1]: overlaps fluids[0].blocks[0]: their particles would lie on top of each other");
+  s["fluids"][0]["blocks"][1] = {{"min", {0.45, 0.45, 0.45}}, {"max", {0.55, 0.55, 0.55}}};  // one corner inside
+  EXPECT_REFUSED(s, "fluids[0].blocks[1]: overlaps fluids[0].blocks[0]");
+  s["fluids"][0]["blocks"][1] = {{"min", {0.5, 0.1, 0.1}}, {"max", {0.55, 0.5, 0.5}}};  // face to face
+  EXPECT_EQ(parseErrorOf(s), "(no error)");
+}
+
+TEST(SceneValidation, TheSameSourceTwiceIsRefused) {
+  json s = minimalScene();
+  s["fluids"][0]["emitters"] = {{{"position", {0.3, 0.8, 0.3}}, {"direction", {0, -1, 0}}, {"speed", 1}, {"width", 0.1}, {"height", 0.1}}};
+  EXPECT_EQ(parseErrorOf(s), "(no error)");
+  s["fluids"][0]["emitters"].push_back(s["fluids"][0]["emitters"][0]);
+  EXPECT_REFUSED(s, "fluids[0].emitters[1]: the same as fluids[0].emitters[0]: their particles would lie on top of each other");
+  s = minimalScene();
+  s["fluids"][0]["meshVolumes"] = {{{"mesh", "../meshes/UnitBox.obj"}, {"scale", {0.2, 0.2, 0.2}}, {"translation", {0.1, 0.6, 0.1}}}};
+  s["fluids"][0]["meshVolumes"].push_back(s["fluids"][0]["meshVolumes"][0]);
+  EXPECT_REFUSED(s, "fluids[0].meshVolumes[1]: the same as fluids[0].meshVolumes[0]");
+}
+
+TEST(SceneValidation, EachForceTypeOnce) {
+  // A second instance would share the first's particle fields (Weiler2018's last velocity
+  // change, Micropolar's angular velocity), each overwriting the other's state.
+  json s = minimalScene();
+  s["fluids"][0]["forces"] = {{{"type", "StandardViscosity"}, {"viscosity", 0.01}}, {{"type", "XSPH"}}, {{"type", "standardviscosity"}}};
+  EXPECT_REFUSED(s, "fluids[0].forces[2]: a second standardviscosity (fluids[0].forces[0] is one)");
+  s["fluids"][0]["forces"].erase(2);
+  EXPECT_EQ(parseErrorOf(s), "(no error)");
+}
+
+TEST(SceneValidation, OutputDirectoryNamesAFolder) {
+  for (const char* directory : {"", "out\x01", "out\x7f"}) {
+    json s = minimalScene();
+    s["output"] = {{"directory", directory}, {"enabled", false}};  // checked even without frames
+    EXPECT_REFUSED(s, "output.directory: must name a folder");
+  }
+}
+
+TEST(SceneValidation, ProbeNamesArePrintableAndRegionIsForForceProbes) {
+  json s = minimalScene();
+  s["probes"] = {{{"kind", "level"}, {"name", "gauge\t1"}, {"position", {0.3, 0, 0.3}}}};
+  EXPECT_REFUSED(s, "probes[0].name: must be printable UTF-8 text without a comma or a quote");
+  // "region" belongs to force probes; elsewhere it is an unknown key, warned about.
+  s["probes"][0]["name"] = "gauge";
+  s["probes"][0]["region"] = {{"min", {0, 0, 0}}, {"max", {1, 1, 1}}};
+  test::CapturedLog log;
+  parseScene(s, CONSPH_TEST_DATA_DIR "/scenes", log.sink());
+  ASSERT_EQ(log.warnings.size(), 1u);
+  EXPECT_NE(log.warnings[0].find("unknown key 'probes[0].region'"), std::string::npos) << log.warnings[0];
+}
+
+TEST(SceneValidation, HugeDirectionsAndAxesNormaliseWithoutOverflow) {
+  // normalize() squares the components: [1e200, 0, 0] overflowed to the zero vector, and the
+  // emitter shot along 0, the hinge turned about 0 and a rotation scaled instead of turning.
+  const double huge = test::kDoubleBuild ? 1e300 : 1e30;  // float: 1e300 is inf, 1e30 squared overflows
+  json s = minimalScene();
+  s["fluids"][0]["emitters"] = {{{"position", {0.3, 0.8, 0.3}}, {"direction", {0, -huge, 0}}, {"speed", 1}, {"width", 0.1}, {"height", 0.1}}};
+  s["boundaries"].push_back({{"mesh", "../meshes/UnitBox.obj"}, {"scale", {0.1, 0.1, 0.1}}, {"translation", {0.3, 0.8, 0.3}},
+                             {"rotationAxis", {0, huge, huge}}, {"rotationAngle", 0.5}, {"dynamic", true}, {"density", 500},
+                             {"hinge", {{"point", {0.3, 0.8, 0.3}}, {"axis", {0, 0, huge}}}}});
+  const SceneDescription d = parseScene(s, CONSPH_TEST_DATA_DIR "/scenes", {});
+  const double tol = test::roundoff(1e-12, 8 * test::kFloatEps);  // a few roundings of unit-size values
+  EXPECT_LT((d.fluids[0].emitters[0].direction - Vector3r(0, -1, 0)).norm(), tol);
+  EXPECT_LT((d.boundaries[1].hinge.axis - Vector3r(0, 0, 1)).norm(), tol);
+  s["boundaries"][1]["rotationAxis"] = {0, 1, 1};
+  const SceneDescription unit = parseScene(s, CONSPH_TEST_DATA_DIR "/scenes", {});
+  ASSERT_EQ(unit.boundaries[1].mesh.vertices.size(), d.boundaries[1].mesh.vertices.size());
+  for (std::size_t v = 0; v < unit.boundaries[1].mesh.vertices.size(); ++v)
+    EXPECT_LT((unit.boundaries[1].mesh.vertices[v] - d.boundaries[1].mesh.vertices[v]).norm(), tol) << v;
+}
