@@ -196,7 +196,7 @@ void Probes::measureLoads(const NeighborLists& lists, const std::vector<Vector3r
   const std::size_t np = probes_.size();
   std::vector<double> sums(6 * np, 0.0);
   double* acc = sums.data();
-  const std::size_t slots = sums.size();
+  [[maybe_unused]] const std::size_t slots = sums.size();  // read by the OpenMP clause only
   const Real h = supportRadius_;
 #pragma omp parallel for schedule(static) reduction(+ : acc[:slots])
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(lists.queryCount()); ++i) {

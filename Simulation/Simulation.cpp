@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "Simulation/FrameSeries.h"
+#include "Simulation/LeakedParticles.h"
 #include "Simulation/SceneFile.h"
 #include "Utilities/LineFile.h"
 #include "Utilities/OutputFolder.h"
@@ -42,12 +43,14 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
     scene_.boundaryPressure = boundaryModel_->implicit() ? BoundaryPressure::Consistent : BoundaryPressure::Extrapolation;
   // One virtual particle per fluid particle carries the whole wall within its support: a p_k
   // fitted from its one fluid neighbour is p_i (mirroring), and pushing with it twice over-pushes
-  // near walls (measured: a resting tank's particle pressures 34-36 % RMS off hydrostatic).
+  // near walls (measured, bench/wall_pressure.py: a resting tank's particle pressures 34-36 %
+  // RMS off hydrostatic under DFSPH; under IISPH and WCSPH the tank blew up).
   if (boundaryModel_->implicit() && scene_.boundaryPressure != BoundaryPressure::Consistent)
     log_(LogLevel::Warning, std::string("simulation.boundaryPressure: \"") + boundaryPressureName(scene_.boundaryPressure) + "\" with " +
                                 scene_.boundaryModel["type"].get<std::string>() +
                                 " walls is p_k = p_i for the one virtual particle per fluid particle: wall-layer pressures are "
-                                "far off hydrostatic (docs/boundary-pressure.md); \"consistent\" (the \"auto\" choice) is right for them");
+                                "far off hydrostatic and a tank filled to its walls blew up under IISPH and WCSPH "
+                                "(docs/boundary-pressure.md); \"consistent\" (the \"auto\" choice) is the treatment for them");
   for (const BoundaryObject& o : scene_.boundaries)
     if (o.motion != BodyMotion::Static) {
       std::vector<Real> layerDepth(scene_.boundaries.size());
@@ -671,6 +674,10 @@ void Simulation::addForce(std::unique_ptr<NonPressureForce> force) {
   forces_.push_back(std::move(force));
 }
 
+std::size_t Simulation::particlesLost() const {
+  return countParticlesInsideSolids(scene_.boundaries, fluid_->positions, scene_.particleRadius);
+}
+
 json Simulation::summary() const {
   const auto& s = stats_;
   const double steps = double(std::max<std::size_t>(s.steps, 1));
@@ -692,7 +699,7 @@ json Simulation::summary() const {
       {"maxDensityErrorPercent", 100.0 * s.densityErrorMax},
       {"iterationCapHits", s.iterationCapHits},
       {"maxTimeStep", timeStepCap_},
-      {"particlesLost", s.particlesLost},
+      {"particlesLost", particlesLost()},
       {"particlesEmitted", s.particlesEmitted},
       {"particlesRemoved", s.particlesRemoved},
       {"particlesDroppedInsideBodies", s.particlesDroppedInsideBodies},

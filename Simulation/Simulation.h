@@ -29,7 +29,6 @@ struct SimulationStats {
   double densityErrorSum = 0, densityErrorMax = 0;  // fraction of rho0, over measured steps
   std::size_t densityErrorSamples = 0;
   std::size_t iterationCapHits = 0, consecutiveCapHits = 0;
-  std::size_t particlesLost = 0;
   std::size_t particlesEmitted = 0, particlesRemoved = 0;  // by emitters / removeOutside
   std::size_t particlesDroppedInsideBodies = 0;            // at start-up, inside closed bodies
   // seconds per phase
@@ -71,6 +70,9 @@ class Simulation {
   BoundarySamples& boundary() { return boundaryModel_->samples(); }
   const BoundaryModel& boundaryModel() const { return *boundaryModel_; }
   const SceneDescription& scene() const { return scene_; }
+  // Fluid particles deeper than r inside a static object's solid (leaked through a wall), now:
+  // counted when asked (the summary asks once), not per step.
+  std::size_t particlesLost() const;
   const SimulationStats& stats() const { return stats_; }
   PressureSolver& pressureSolver() { return *pressureSolver_; }
   const NeighborLists& fluidNeighbors() const { return fluidNeighbors_; }

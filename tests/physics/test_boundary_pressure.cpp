@@ -214,7 +214,7 @@ TEST(SphereDropScene, IisphWithExtrapolationSurvivesTheImpact) {
     capHits += sim->pressureSolver().stats().hitIterationCap;
   }
   EXPECT_EQ(sim->fluid().size(), n0);
-  EXPECT_EQ(sim->stats().particlesLost, 0u);
+  EXPECT_EQ(sim->particlesLost(), 0u);
   EXPECT_EQ(capHits, 0u);
 }
 

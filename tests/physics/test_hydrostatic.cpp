@@ -104,7 +104,7 @@ TEST_P(Hydrostatic, ColumnAtRestDFSPH) {
   EXPECT_LT(trueAverage, 1.1 * tolerance) << "true average density error " << 100 * trueAverage << " %";
 
   ASSERT_EQ(f.size(), n0);
-  EXPECT_EQ(sim->stats().particlesLost, 0u);
+  EXPECT_EQ(sim->particlesLost(), 0u);
 
   // Nearly at rest: mean speed below 1 cm/s, and below 6 cm/s everywhere at least 4r from the
   // walls (measured: 0.75 cm/s mean, 3.3-4.8 cm/s interior maximum at t = 2 s; the layer pressed onto
@@ -175,7 +175,7 @@ void expectRho0GH(Simulation& sim) {
   EXPECT_FALSE(profile.hitIterationCap);
   for (int b = 0; b < PressureProfile::bins; ++b) EXPECT_NEAR(profile.ratio[b], 1, 0.03) << "depth bin " << 0.2 + 0.1 * b << " m";
   EXPECT_NEAR(profile.slope, 1, 0.02);
-  EXPECT_EQ(sim.stats().particlesLost, 0u);
+  EXPECT_EQ(sim.particlesLost(), 0u);
 }
 }  // namespace
 

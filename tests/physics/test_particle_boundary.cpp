@@ -51,7 +51,7 @@ TEST(ParticleBoundary, ABlockDrawnUpToTheWallsStartsAtRestDensityAndSettles) {
   sim->run(Real(2.0));
   const FluidModel& f = sim->fluid();
   ASSERT_EQ(f.size(), n0);
-  EXPECT_EQ(sim->stats().particlesLost, 0u);
+  EXPECT_EQ(sim->particlesLost(), 0u);
   double meanSpeed = 0, maxSpeed = 0;
   Real lowest = 1, highest = 0;
   for (std::size_t i = 0; i < f.size(); ++i) {

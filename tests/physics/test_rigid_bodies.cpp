@@ -177,7 +177,7 @@ double submergedFraction(const RigidBody& body, const Vector3r& size, Real level
 // Asserted with volume maps: within 3 % of rho_b / rho0 under both surfaces, and the draft's
 // growth with the density, d(fraction) / d(rho_b / rho0) = 1 within 3 %. With Akinci samples
 // the same test is disabled below, with the values above; what they do meet is asserted in
-// BuoyancyWithAkinciSamplesWithinThreePoints.
+// BuoyancyWithAkinciSamplesWithinTwoPoints.
 struct Floating {
   double fraction = 0;        // submerged volume fraction under the pressure-zero level, t = 2..3 s
   double colourFraction = 0;  // the same under the colour field's 1/2 level
@@ -272,15 +272,18 @@ void expectArchimedes(const char* boundaryModel) {
 TEST(RigidBodies, BuoyancySubmergedFractionIsDensityRatio) { expectArchimedes("VolumeMap"); }
 TEST(RigidBodies, DISABLED_BuoyancySubmergedFractionIsDensityRatioWithAkinciSamples) { expectArchimedes("Akinci2012"); }
 
-// Akinci samples (the default model): within 3 percentage points of rho_b / rho0 under both the
+// Akinci samples (the default model): within 2 percentage points of rho_b / rho0 (the wall-pressure
+// issue's bound for the default boundary model; 3 before the "auto" default) under both the
 // pressure-zero and the colour-field surface, and the draft's growth with the density within
 // 3 % (under the top particles, which does not depend on where the surface is). Measured
 // (2026-11-29, after the reaction torque moved to x_i, which changes Akinci runs only by
 // round-off): 0.3106 / 0.5187 / 0.8244 (pressure zero), 0.3144 / 0.5143 / 0.8257 (colour),
 // 0.2680 / 0.4699 / 0.7792 (top particles + d/2, slope 1.022). The earlier bound on the top
 // particles (0.03; 0.2718 before) no longer holds: round-off alone moves these fractions by
-// ~0.004, and that surface is not the hydrostatic one (see above).
-TEST(RigidBodies, BuoyancyWithAkinciSamplesWithinThreePoints) {
+// ~0.004, and that surface is not the hydrostatic one (see above). With the "auto" treatment
+// (extrapolation on Akinci walls, 2026-12-01; clean-clone CI run, double): 0.2930 / 0.4883 /
+// 0.7891 (pressure zero), 0.2928 / 0.4902 / 0.7895 (colour): at most 1.2 points off.
+TEST(RigidBodies, BuoyancyWithAkinciSamplesWithinTwoPoints) {
   // Skipped in float builds (CONSPH_DOUBLE=OFF). Measured there (2026-11-30, 2 threads, 287 s):
   // 0.3116 / 0.5233 / 0.8321 (pressure zero: +1.2 / +2.3 / +3.2 points), 0.3141 / 0.5147 /
   // 0.8250 (colour), 0.2710 / 0.4718 / 0.7788 (top particles, slope 1.016): only the 0.8 box
@@ -289,13 +292,14 @@ TEST(RigidBodies, BuoyancyWithAkinciSamplesWithinThreePoints) {
   // moves the 0.8 box by 0.008 of a 2 s, three-box run. The volume-map test on the same scenes
   // moves by <= 0.005 between the builds and passes in both: a bigger round-off perturbation of
   // the same chaotic settling, not a float bug, and no reason to widen the 3 points.
+  // (Those float figures are of the consistent treatment, the default then; not re-measured.)
   if (!test::kDoubleBuild) GTEST_SKIP() << "float build: round-off moves the 0.8 box to +3.2 points (double: +2.4)";
   const double ratios[3] = {0.3, 0.5, 0.8};
   Floating f[3];
   for (int i = 0; i < 3; ++i) {
     f[i] = floatBox(ratios[i], "Akinci2012");
-    EXPECT_NEAR(f[i].fraction, ratios[i], 0.03) << "rho_b / rho0 = " << ratios[i] << ", pressure-zero surface";
-    EXPECT_NEAR(f[i].colourFraction, ratios[i], 0.03) << "rho_b / rho0 = " << ratios[i] << ", colour-field surface";
+    EXPECT_NEAR(f[i].fraction, ratios[i], 0.02) << "rho_b / rho0 = " << ratios[i] << ", pressure-zero surface";
+    EXPECT_NEAR(f[i].colourFraction, ratios[i], 0.02) << "rho_b / rho0 = " << ratios[i] << ", colour-field surface";
     EXPECT_LT(f[i].maxSpeed, 0.05);
   }
   EXPECT_NEAR((f[2].topFraction - f[0].topFraction) / (ratios[2] - ratios[0]), 1, 0.03);
@@ -358,7 +362,7 @@ TEST(RigidBodies, ATenPercentDenserBoxSinks) {
 // Measured with the consistent treatment, which this test keeps. With "auto" (extrapolation on
 // these Akinci walls) the 0.3 rho0 box rides too high at this coarse resolution (box 6.4 r
 // tall): bottom 0.3213 m over a surface at 0.3108 m at t = 2 s, still moving at 5.4 cm/s
-// (measured 2026-12-01); at r = 0.01 extrapolation passes BuoyancyWithAkinciSamplesWithinThreePoints.
+// (measured 2026-12-01); at r = 0.01 extrapolation passes BuoyancyWithAkinciSamplesWithinTwoPoints.
 TEST(RigidBodies, DenserBoxesFloatDeeper) {
   auto sim = makeSimulation(R"({
     "simulation": {"particleRadius": 0.025, "maxTimeStep": 0.004, "boundaryPressure": "consistent"},
@@ -673,37 +677,43 @@ void expectSinkingBoxRests(double offsetX, double offsetY) {
     const Matrix3r R = body.rotation() * R0.transpose();
     return double(body.x[1]) - double(R.row(1).cwiseAbs().dot(half));
   };
-  double lowest = 1e9;
+  double lowest = 1e9, fastestFluid = 0;
   while (sim->time() < 2.0) {
     sim->step();
     lowest = std::min(lowest, bottom());
+    for (const Vector3r& v : sim->fluid().velocities) fastestFluid = std::max<double>(fastestFluid, v.norm());
   }
   const double tilt = Eigen::AngleAxis<Real>(body.rotation() * R0.transpose()).angle() * 180 / std::numbers::pi;
-  std::printf("[ contact ] box bottom %.4f m (lowest %.4f), tilt %.1f deg, velocity (%.4f %.4f %.4f) m/s, %zu contacts\n", bottom(),
-              lowest, tilt, double(body.v[0]), double(body.v[1]), double(body.v[2]), sim->rigidBodies()->contactCount());
+  std::printf("[ contact ] box bottom %.4f m (lowest %.4f), tilt %.1f deg, velocity (%.4f %.4f %.4f) m/s, %zu contacts, fastest fluid %.2f m/s\n",
+              bottom(), lowest, tilt, double(body.v[0]), double(body.v[1]), double(body.v[2]), sim->rigidBodies()->contactCount(),
+              fastestFluid);
   EXPECT_GT(lowest, -0.025);                // never more than r into the floor
   EXPECT_LT(bottom(), 0.025);               // on the floor, not floating
   EXPECT_LT(body.v.norm(), 0.02);           // resting on it (measured |v| < 1e-4 m/s with friction 0.5)
   EXPECT_GT(sim->rigidBodies()->contactCount(), 0u);
+  // The squeeze jet out of the closing gap: 4.8-9.9 m/s over seven offsets of up to 11 mm with
+  // the "auto" treatment (measured 2026-12-02); a particle trapped in the gap left at 132 m/s.
+  EXPECT_LT(fastestFluid, 15.0);
 }
 }  // namespace
 
 TEST(RigidBodies, SinkingBoxRestsOnTheFloor) { expectSinkingBoxRests(0, 0); }
 
-// DISABLED, a known bug found 2026-11-30: the same box started 3 mm off the centre line (and 1 mm
-// higher) lands tilted, and a fluid particle caught in the closing gap under it has DFSPH's
-// divergence solve hold it incompressible although its density is 0.6 rho0 (it counts its box
-// and floor samples among its 20 neighbours, so it is not taken for a surface particle): it
-// carries 1e5-1e7 Pa, leaves the gap at up to 130 m/s, and the box is thrown up to 0.63 m and is
-// still flying at t = 1 s (1.6 m/s). Offsets of 11 and 17 mm land quietly (fluid at most 6 m/s).
-// Tried and not landed (2026-11-30): dropping the divergence constraint wherever rho_i + dt
-// D rho_i / Dt < rho0 (the density solve's own inequality) fixes this box (it rests, fluid at
-// most 6.4 m/s) but four tests fail: floating bodies stay restless (0.071 m/s against 0.05), the
-// 0.5 rho0 volume-map box floats at +3.9 %, the overlapping start pushes fluid at 5.3 m/s (3.2
-// allowed) and the wide extrapolation column leaves 2 %: the divergence solve's hold on
-// under-dense particles is what calms a free surface. A fix must tell a closing gap from a
-// surface. Enable with --gtest_also_run_disabled_tests.
-TEST(RigidBodies, DISABLED_AnOffCentreSinkingBoxRestsOnTheFloor) { expectSinkingBoxRests(0.003, 0.001); }
+// The closing gap (issue 15), found 2026-11-30 with the consistent treatment, then the default:
+// the box started 3 mm off the centre line (and 1 mm higher) lands tilted, and a fluid particle
+// caught in the closing gap under it has DFSPH's divergence solve hold it incompressible
+// although its density is 0.6 rho0 (it counts its box and floor samples among its 20
+// neighbours, so it is not taken for a surface particle): it carries 1e5-1e7 Pa and leaves the
+// gap at up to 130 m/s, and the box is thrown up to 0.63 m. Dropping the divergence constraint
+// wherever rho_i + dt D rho_i / Dt < rho0 fixed this box but broke four free-surface tests (the
+// divergence solve's hold on under-dense particles is what calms a free surface). With the
+// "auto" default (MLS extrapolation on Akinci walls, Band et al. 2018) the box lands quietly
+// (not traced why; a lead: its diagonal carries Eq. (15)'s sum over the gap particle's 63-78
+// boundary samples, which the consistent Eq. (32) leaves out, so its increments stay small). Measured 2026-12-02 (1 thread, double), the
+// box's offset (x, y) in mm: auto rests at every one of (3, 1), (1, 0), (5, 2), (7, 0), (11, 0),
+// (3, 4), (0, 3), fluid at most 4.8-9.9 m/s; consistent still throws fluid at 132 m/s at (3, 1)
+// and lands the box on its side at (1, 0) (docs/rigid-bodies.md).
+TEST(RigidBodies, AnOffCentreSinkingBoxRestsOnTheFloor) { expectSinkingBoxRests(0.003, 0.001); }
 
 TEST(RigidBodies, BoxStacksOnABoxWithoutFluid) {
   auto sim = makeSimulation(R"({

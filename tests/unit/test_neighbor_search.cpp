@@ -128,7 +128,7 @@ TEST(NeighborSearch, EmptySets) {
 TEST(NeighborSearch, NonFinitePointsAreRefusedNotLoopedOn) {
   // Issue 16: an inf point made the cell-growing loop run forever; a NaN one escaped min/max.
   const Real inf = std::numeric_limits<Real>::infinity(), nan = std::numeric_limits<Real>::quiet_NaN();
-  for (const Vector3r bad : {Vector3r(inf, 0, 0), Vector3r(0, nan, 0), Vector3r(-1e308, 0, 0)}) {
+  for (const Vector3r& bad : {Vector3r(inf, 0, 0), Vector3r(0, nan, 0), Vector3r(-1e308, 0, 0)}) {
     std::vector<Vector3r> points = {Vector3r(0, 0, 0), bad, Vector3r(1, 1, 1)};
     if (bad[0] == Real(-1e308)) points.push_back(Vector3r(1e308, 0, 0));  // finite points spanning more than a double
     PointGrid grid;
