@@ -393,7 +393,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
              {"gravity", ParamType::Vector3, json::array({0, -9.81, 0}), "gravitational acceleration, m/s^2"},
              {"cflFactor", ParamType::Real, 1.0, "dt = cflFactor 0.4 (2r) / max|v|", 1e-3, 10},
              {"minTimeStep", ParamType::Real, 1e-4, "lower bound of the adaptive time step, s", 1e-8, 1},
-             {"maxTimeStep", ParamType::Real, 0.005,
+             {"maxTimeStep", ParamType::Real, kDefaultMaxTimeStep,
               "upper bound of the adaptive time step, s; when not given: min(0.005, CFL step at the scene's speed scale sqrt(v0^2 + 2 g H), 0.125 h^2 / nu of an explicit viscosity)",
               1e-8, 1},
              {"initialTimeStep", ParamType::Real, 0.001, "time step of the first step, s", 1e-8, 1},

@@ -42,13 +42,16 @@ struct OutputSettings {
   Real checkpointInterval = 0;             // simulated seconds between checkpoints; 0: none
 };
 
+// simulation.maxTimeStep's default, s: the cap's constant part (Simulation::chooseTimeStepCap).
+inline constexpr double kDefaultMaxTimeStep = 0.005;
+
 struct SceneDescription {
   json raw;             // the whole scene after overrides
   std::string baseDir;  // relative mesh paths are resolved against the scene's folder
 
   Real particleRadius = Real(0.025);
   Vector3r gravity = Vector3r(0, Real(-9.81), 0);
-  Real cflFactor = 1, minTimeStep = Real(1e-4), maxTimeStep = Real(0.005), initialTimeStep = Real(0.001);
+  Real cflFactor = 1, minTimeStep = Real(1e-4), maxTimeStep = Real(kDefaultMaxTimeStep), initialTimeStep = Real(0.001);
   // Given in the scene: then maxTimeStep is the cap as it stands; otherwise the cap is
   // min(maxTimeStep, the resolution's and the physics' bounds; Simulation's timeStepCap).
   bool maxTimeStepGiven = false;

@@ -30,6 +30,10 @@ struct StepContext {
   Real particleRadius;
   Real dt;          // this step's time step (set before the pressure solve)
   Real dtPrevious;  // the previous step's (warm starts scale by it)
+  // The time over which the implicit solvers remove a density excess a step starts with (drift),
+  // s: the step the resolution calls for (Simulation::densityRelaxationTime), not the step taken,
+  // so lowering the step does not speed the correction up (SphPressureTerms.h, driftTarget).
+  Real densityRelaxationTime;
   Real time;
   std::size_t step;
   const LogSink& log;

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cmath>
 
 namespace consph {
 
@@ -48,8 +49,8 @@ void BoundaryPressureTreatment::computeMlsCoefficients(const StepContext& ctx) {
   pk_.assign(b.size(), Real(0));
   pkChange_.assign(b.size(), Real(0));
   const std::ptrdiff_t nk = std::ptrdiff_t(b.size());
-  std::size_t fallbacks = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : fallbacks)
+  std::size_t fallbacks = 0, limited = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : fallbacks, limited)
   for (std::ptrdiff_t k = 0; k < nk; ++k) {
     if (t.count(k) == 0) continue;
     const Vector3r xk = b.positions[k];
@@ -82,6 +83,15 @@ void BoundaryPressureTreatment::computeMlsCoefficients(const StepContext& ctx) {
     if (t.count(k) >= 4 && lambda[2] > Real(0) && lambda[0] > kSingularRatio * lambda[2]) {
       const auto& v = eig.eigenvectors();
       slope = v * (v.transpose() * (xk - xBar)).cwiseQuotient(lambda);
+      // The slope's amplification: how far the fit moves p_k from p_bar per unit of the fluid's
+      // pressure spread, max_f |(x_f - x_bar) . M^-1 (x_k - x_bar)| (kMaxSlopeAmplification).
+      Real amplification = 0;
+      for (Index e = t.begin(k); e < t.end(k); ++e)
+        amplification = std::max(amplification, std::abs((f.positions[t.indices[e]] - xBar).dot(slope)));
+      if (amplification > kMaxSlopeAmplification) {
+        slope *= kMaxSlopeAmplification / amplification;
+        ++limited;
+      }
     } else {
       ++fallbacks;
     }
@@ -89,6 +99,7 @@ void BoundaryPressureTreatment::computeMlsCoefficients(const StepContext& ctx) {
       mlsCoefficients_[e] *= invSumW * (Real(1) + (f.positions[t.indices[e]] - xBar).dot(slope));
   }
   fallbacks_ = fallbacks;
+  limitedSlopes_ = limited;
 }
 
 void BoundaryPressureTreatment::computeExtrapolationCoupling(const StepContext& ctx) {

@@ -119,11 +119,23 @@ class BoundaryPressureTreatment {
   const std::vector<Real>& boundaryPressureChanges() const { return pkChange_; }
   // Boundary samples whose moment matrix was near-singular this step (weighted-average fallback).
   std::size_t fallbackCount() const { return fallbacks_; }
+  // Boundary samples whose slope was scaled down to kMaxSlopeAmplification this step.
+  std::size_t limitedSlopeCount() const { return limitedSlopes_; }
 
   // Smallest / largest eigenvalue of the weighted moment matrix below which it counts as
   // near-singular: the fluid around x_k is (nearly) a plane or a line and cannot give a slope
   // along the missing direction, which is exactly the direction towards the wall.
   static constexpr Real kSingularRatio = Real(1e-2);
+  // The largest amplification max_f |(x_f - x_bar) . M^-1 (x_k - x_bar)| of the fitted slope; a
+  // steeper fit is scaled down to it (p_k stays linear in the fluid pressures, so the solvers'
+  // diagonals hold). Two lattice layers over a flat wall (the test ExtrapolationReproduces-
+  // ALinearPressureField) need 21: the layer at 3r sits in the kernel's tail, so the fluid's
+  // weighted spread along the normal is small. The few particles left in a tank's corner as a
+  // dam break drains gave hundreds (not singular at kSingularRatio), and single particles were
+  // thrown out: +7.5 % of the energy in one step at r = 0.02, dt = 0.5 ms, 12.8 m/s at r = 0.01.
+  // Measured 2026-12-02 (bench/RESULTS.md, "Density drift and the time step"): 30 stops those and
+  // keeps the resting tank within its bounds; 50 let 0.7 % steps through.
+  static constexpr Real kMaxSlopeAmplification = Real(30);
 
  private:
   void computeMlsCoefficients(const StepContext& ctx);
@@ -138,6 +150,7 @@ class BoundaryPressureTreatment {
   std::vector<Real> mlsCoefficients_;  // (pairs of boundaryToFluid_) c_kf
   std::vector<Real> pk_, pkChange_;    // (n boundary) p_k and its last change, Pa
   std::size_t fallbacks_ = 0;
+  std::size_t limitedSlopes_ = 0;
 };
 
 }  // namespace consph

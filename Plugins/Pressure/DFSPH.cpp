@@ -29,6 +29,7 @@ std::vector<ParamSpec> DFSPH::parameters() {
        "overlap relief: a particle more than 1 % over rho0 at the start of a step (an overlap with a body) "
        "is asked to lose at most rho0 overlapReliefSpeed dt / h of density per step instead of all of it, "
        "which would fling it out; measured push-out speeds are about 4 times this, m/s (0: off)", 0, 1e6},
+      densityRelaxationParameter(),
   };
 }
 
@@ -43,6 +44,7 @@ DFSPH::DFSPH(const Params& p, FluidModel& fluid)
   settings_.divergenceSolver = p.boolean("enableDivergenceSolver");
   settings_.warmStart = p.boolean("warmStart");
   settings_.overlapReliefSpeed = p.real("overlapReliefSpeed");
+  settings_.relaxOverResolutionStep = p.string("densityRelaxation") == "resolution";
   if (settings_.minIterations > settings_.maxIterations)
     throw InputError(p.pathOf("minIterations") + ": must not exceed maxIterations");
 }
@@ -78,6 +80,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
                                   ? std::max(rho0 * settings_.overlapReliefSpeed * dt / ctx.kernel.supportRadius(),
                                              Real(0.01) * rho0)
                                   : std::numeric_limits<Real>::infinity();
+  const Real relaxationTime = settings_.relaxOverResolutionStep ? ctx.densityRelaxationTime : Real(0);
   double errorSum = 0;
 #pragma omp parallel for schedule(static) reduction(+ : errorSum)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
@@ -90,8 +93,8 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
       increment_[i] = s * invDiagonal_[i] / dt;
       errorSum += s * dt / rho0;
     } else {
-      // rho*_i - rho0 with rho*_i = rho_i + dt D rho_i / Dt (Eq. 6), compression only.
-      const Real target = std::max(rho0, f.densities[i] - maxDensityDrop);
+      // rho*_i - target with rho*_i = rho_i + dt D rho_i / Dt (Eq. 6), compression only.
+      const Real target = driftTarget(f.densities[i], rho0, dt, relaxationTime, maxDensityDrop);
       s = std::max(f.densities[i] + dt * drho - target, Real(0));
       increment_[i] = s * invDiagonal_[i] / (dt * dt);
       errorSum += s / rho0;
@@ -194,7 +197,10 @@ void DFSPH::boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impu
   const BoundarySamples& b = ctx.boundary;
   const auto& bn = ctx.boundaryNeighbors;
   const std::vector<Real>& densityP = treatment_.boundaryPressures();
-  const std::vector<Real>& divergenceP = treatment_.extrapolates() ? divergenceBoundaryP_ : densityP;
+  // Without a divergence solve this step (disabled, or nothing to solve) its share is zero and
+  // its boundary pressures were never recorded.
+  const bool withDivergence = divergenceDt_ > 0;
+  const std::vector<Real>& divergenceP = treatment_.extrapolates() && withDivergence ? divergenceBoundaryP_ : densityP;
   impulsePerPair.resize(bn.pairCount());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
@@ -202,8 +208,8 @@ void DFSPH::boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impu
     const Real betaDiv = divergenceBeta_[i], betaDen = densityBeta_[i];
     for (Index e = bn.begin(i); e < bn.end(i); ++e) {
       const Index k = bn.indices[e];
-      const Real c = divergenceDt_ * treatment_.pairFactor(k, betaDiv, betaDiv * rho2, divergenceP) +
-                     ctx.dt * treatment_.pairFactor(k, betaDen, betaDen * rho2, densityP);
+      Real c = ctx.dt * treatment_.pairFactor(k, betaDen, betaDen * rho2, densityP);
+      if (withDivergence) c += divergenceDt_ * treatment_.pairFactor(k, betaDiv, betaDiv * rho2, divergenceP);
       impulsePerPair[e] = (f.masses[i] * b.masses[k] * c) * bn.gradW[e];
     }
   }

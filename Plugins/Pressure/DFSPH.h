@@ -29,6 +29,7 @@ class DFSPH final : public PressureSolver {
     int minIterations, maxIterations, maxIterationsDivergence;
     bool divergenceSolver, warmStart;
     Real overlapReliefSpeed;  // m/s, 0: off
+    bool relaxOverResolutionStep;  // densityRelaxation "resolution" (driftTarget)
   } settings_;
 
   void computeDiagonal(StepContext& ctx);

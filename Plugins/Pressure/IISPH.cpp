@@ -20,6 +20,7 @@ std::vector<ParamSpec> IISPH::parameters() {
       {"maxIterations", ParamType::Int, 100, "maximum Jacobi iterations", 1, 100000},
       {"omega", ParamType::Real, 0.5, "relaxation factor of the Jacobi iteration (Eq. 11)", 1e-3, 1},
       {"warmStart", ParamType::Bool, true, "start from half of the previous step's pressure"},
+      densityRelaxationParameter(),
   };
 }
 
@@ -29,6 +30,7 @@ IISPH::IISPH(const Params& p) {
   settings_.maxIterations = p.integer("maxIterations");
   settings_.omega = p.real("omega");
   settings_.warmStart = p.boolean("warmStart");
+  settings_.relaxOverResolutionStep = p.string("densityRelaxation") == "resolution";
   if (settings_.minIterations > settings_.maxIterations)
     throw InputError(p.pathOf("minIterations") + ": must not exceed maxIterations");
 }
@@ -39,6 +41,7 @@ void IISPH::prepare(StepContext& ctx) {
   FluidModel& f = ctx.fluid;
   const Real rho0 = f.density0(), dt = ctx.dt, omega = settings_.omega;
   const Real start = settings_.warmStart ? Real(0.5) : Real(0);
+  const Real relaxationTime = settings_.relaxOverResolutionStep ? ctx.densityRelaxationTime : Real(0);
   const std::ptrdiff_t n = std::ptrdiff_t(f.size());
   source_.resize(n);
   omegaOverA_.resize(n);
@@ -47,8 +50,10 @@ void IISPH::prepare(StepContext& ctx) {
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const Real rhoI = f.densities[i];
-    // s_i = (rho0 - rho*_i) / dt, rho*_i = rho_i + dt D rho_i / Dt (Eqs. 5, 6).
-    source_[i] = (rho0 - rhoI - dt * densityRate(ctx, i)) / dt;
+    // s_i = (target - rho*_i) / dt, rho*_i = rho_i + dt D rho_i / Dt (Eqs. 5, 6); target = rho0
+    // unless the step starts over rho0 (driftTarget).
+    const Real target = driftTarget(rhoI, rho0, dt, relaxationTime, std::numeric_limits<Real>::infinity());
+    source_[i] = (target - rhoI - dt * densityRate(ctx, i)) / dt;
     // A_ii = -dt / rho_i^2 (|sum_j m_j grad W_ij + g_i|^2 + sum_j m_i m_j |grad W_ij|^2 [+ Eq. 15's term]).
     Vector3r sumGrad = treatment_.boundaryGradient(i);
     Real squares = treatment_.extrapolates() ? Real(0) : treatment_.diagonalTerm(i);

@@ -29,6 +29,7 @@ class IISPH final : public PressureSolver {
     int minIterations, maxIterations;
     Real omega;      // Jacobi relaxation
     bool warmStart;  // start from half of the previous step's pressure (Ihmsen et al. 2014)
+    bool relaxOverResolutionStep;  // densityRelaxation "resolution" (driftTarget)
   } settings_;
 
   // s_i (Eq. 5 with Eq. 6) and omega / A_ii (Eq. 12 / 15 / 32); the start pressure.

@@ -71,7 +71,7 @@ struct ParticleSet {
 
   StepContext context(Real dt, std::size_t step = 0) {
     return StepContext{fluid, boundary, fluidNeighbors, boundaryNeighbors, kernel, BoundaryPressure::Consistent,
-                       Vector3r::Zero(), particleRadius, dt, dt, 0, step, log};
+                       Vector3r::Zero(), particleRadius, dt, dt, /*densityRelaxationTime*/ Real(0), 0, step, log};
   }
 
   std::unique_ptr<NonPressureForce> create(const std::string& type, json params = json::object()) {

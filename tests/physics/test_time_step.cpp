@@ -93,3 +93,78 @@ TEST(TimeStep, WcsphIsCappedBySoundSpeedAndRestsAtTheDefaults) {
   // over its own height is sqrt(2 g 12 d) = 1.66 m/s.
   EXPECT_LT(fastest, 0.5);
 }
+
+namespace {
+// The impact benchmark's dam break (bench/impact_pressure.py) at r = 0.02: a 0.2 x 0.4 m column,
+// 0.1 m deep, at one end of a 0.8 m tank, the default treatment; `maxDt` 0: the default cap.
+json damBreak(double maxDt, const std::string& densityRelaxation = "resolution") {
+  json s = json::parse(R"({
+    "simulation": {"particleRadius": 0.02},
+    "fluids": [{"blocks": [{"min": [0, 0, 0], "max": [0.2, 0.4, 0.1]}]}],
+    "boundaries": [{"name": "tank", "box": {"min": [0, 0, 0], "max": [0.8, 0.8, 0.1]}, "inverted": true}]})");
+  if (maxDt > 0) s["simulation"]["maxTimeStep"] = maxDt;
+  s["simulation"]["pressureSolver"] = {{"type", "DFSPH"}, {"densityRelaxation", densityRelaxation}};
+  return s;
+}
+
+double energy(const FluidModel& f, Real g) {
+  double e = 0;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    e += double(f.masses[i]) * (0.5 * double(f.velocities[i].squaredNorm()) + double(g) * double(f.positions[i][1]));
+  return e;
+}
+
+// The largest energy over the first `until` s relative to the start (gravity's potential energy;
+// the walls are still, so nothing may add energy), and the 90th-percentile front x at `until`.
+std::pair<double, double> maxEnergyAndFront(const json& scene, double until) {
+  auto sim = test::simulationFromJson(scene);
+  const double e0 = energy(sim->fluid(), Real(9.81));
+  double highest = 1;
+  while (sim->time() < Real(until) - Real(1e-9)) {
+    sim->step();
+    highest = std::max(highest, energy(sim->fluid(), Real(9.81)) / e0);
+  }
+  std::vector<double> x;
+  for (const Vector3r& p : sim->fluid().positions) x.push_back(double(p[0]));
+  std::sort(x.begin(), x.end());
+  return {highest, x[std::size_t(0.9 * double(x.size()))]};
+}
+}  // namespace
+
+// A block starts a little over rho0 next to its walls (the lattice's kernel sums). Removed within
+// each step, that excess left at excess h / dt: a tenth of the default step gave the dam break
+// 20 % more energy than it had within 10 ms (r = 0.01), and the front ran ahead as the step was
+// lowered. Removed over the resolution's step (densityRelaxation "resolution", the default) the
+// energy stays at its start and the flow is the same at the default step and at an eighth of it.
+TEST(TimeStep, ALowerStepGivesTheSameFlowWithoutAddingEnergy) {
+  const auto [defaultEnergy, defaultFront] = maxEnergyAndFront(damBreak(0), 0.1);
+  const auto [shortEnergy, shortFront] = maxEnergyAndFront(damBreak(0.00025), 0.1);
+  EXPECT_LT(defaultEnergy, 1.002);
+  EXPECT_LT(shortEnergy, 1.002);
+  EXPECT_NEAR(shortFront, defaultFront, 0.01 * defaultFront);
+  // The classical form ("step") at the short step: the start lattice's kick, far over the start.
+  const auto [classicalEnergy, classicalFront] = maxEnergyAndFront(damBreak(0.00025, "step"), 0.02);
+  EXPECT_GT(classicalEnergy, 1.01);
+}
+
+// As the column drains, a few particles are left in the tank's back corner: a thin cloud whose
+// MLS fit (the default treatment, extrapolation) is not singular (smallest / largest moment
+// eigenvalue over 1e-2) but amplified the pressures' spread hundreds of times, so a step threw
+// them out: +7.5 % of the start energy in one step here at dt = 0.5 ms (measured 2026-12-02).
+// With the slope capped (BoundaryPressureTreatment::kMaxSlopeAmplification) no step adds more
+// than 0.5 % (the energy's slow rise at short steps with extrapolation is docs/boundary-
+// pressure.md's open point, not asserted here).
+TEST(TimeStep, NoStepThrowsParticlesOutOfADrainingCorner) {
+  for (double maxDt : {0.0005, 0.00025}) {
+    auto sim = test::simulationFromJson(damBreak(maxDt));
+    const double e0 = energy(sim->fluid(), Real(9.81));
+    double previous = 1, largestRise = 0;
+    while (sim->time() < Real(0.35)) {
+      sim->step();
+      const double e = energy(sim->fluid(), Real(9.81)) / e0;
+      largestRise = std::max(largestRise, e - previous);
+      previous = e;
+    }
+    EXPECT_LT(largestRise, 0.005) << "maxTimeStep " << maxDt;
+  }
+}

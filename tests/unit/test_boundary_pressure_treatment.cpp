@@ -143,3 +143,37 @@ TEST(BoundaryPressureTreatment, BoundaryAccelerationsFollowEqs16And33) {
   EXPECT_EQ(consistent.diagonalTerm(i), 0);
   EXPECT_GT(mirroring.diagonalTerm(i), 0);
 }
+
+// A thin cloud of fluid over a sample (a few particles left in a corner: not singular, but its
+// fit amplifies the pressures' spread hundreds of times) has its slope scaled down to
+// kMaxSlopeAmplification: p_k stays within that many spreads of the weighted average, where the
+// raw fit was far outside. A regular two-layer wall (21, the test above) is not touched.
+TEST(BoundaryPressureTreatment, ExtrapolationCapsTheSlopeOfAThinCloud) {
+  test::StandaloneStep s(kRadius, kRho0);
+  s.boundary.resize(1);
+  s.boundary.masses[0] = Real(0.5) * kRho0 * kRadius * kRadius * kRadius;
+  // Four particles in a square 3 r above the sample and one 0.5 r above its centre: smallest /
+  // largest moment eigenvalue 0.022 (not singular), amplification 68 (numpy, 2026-12-02).
+  const std::vector<Vector3r> x = {Vector3r(-kRadius, 3 * kRadius, -kRadius), Vector3r(kRadius, 3 * kRadius, -kRadius),
+                                   Vector3r(-kRadius, 3 * kRadius, kRadius), Vector3r(kRadius, 3 * kRadius, kRadius),
+                                   Vector3r(0, Real(3.5) * kRadius, 0)};
+  s.fluid.resize(x.size());
+  for (std::size_t p = 0; p < x.size(); ++p) {
+    s.fluid.positions[p] = x[p];
+    s.fluid.masses[p] = kRho0 * 8 * kRadius * kRadius * kRadius;
+  }
+  s.update();
+  ASSERT_EQ(s.boundaryNeighbors.pairCount(), x.size());
+  BoundaryPressureTreatment t;
+  const StepContext ctx = s.context(BoundaryPressure::Extrapolation, Real(0.001));
+  t.beginStep(ctx);
+  // Pressures 1000 to 1010 Pa, rising with height (the fit alone: about 1000 - 68 x 10 Pa).
+  auto pressure = [&](Index j) { return Real(1000) + Real(10) * (s.fluid.positions[j][1] - 3 * kRadius) / (Real(0.5) * kRadius); };
+  t.extrapolate(pressure);
+  EXPECT_EQ(t.fallbackCount(), 0u);
+  EXPECT_EQ(t.limitedSlopeCount(), 1u);
+  const Real pk = t.boundaryPressures()[0];
+  EXPECT_TRUE(std::isfinite(pk));
+  // Within kMaxSlopeAmplification x the 10 Pa spread of the mean, and at 0 or above.
+  EXPECT_LE(std::abs(pk - Real(1000)), BoundaryPressureTreatment::kMaxSlopeAmplification * Real(10) + Real(10));
+}
