@@ -391,9 +391,10 @@ TEST(RigidBodies, DenserBoxesFloatDeeper) {
     EXPECT_LT(body.x[1] - 0.08, top);  // its bottom is under water
     // Its top is above: it floats, to the surface's own resolution (the highest centre plus half
     // a spacing, +-0.5 spacing). The consistent treatment's buoyancy deficit at this resolution
-    // (the held box feels 0.925 rho0 V g) leaves the 0.8 rho0 box's top at the surface: 0.3396 m
-    // against 0.3400 m (measured 2026-12-02; the surface read 0.312 m before only because two of
-    // the strip's columns had no particle near the top).
+    // (the held box feels 0.925 rho0 V g) leaves the 0.8 rho0 box's top near the surface: with
+    // densityRelaxation "resolution" 0.3396 m against 0.3400 m, with the default 0.3381 m against
+    // 0.3121 m, a surface read low because two of the strip's columns had no particle near the top
+    // (measured 2026-12-02).
     EXPECT_GT(body.x[1] + 0.08, top - Real(0.5 * 1.8566 * 0.025));
     EXPECT_LT(body.v.norm(), 0.1);
   }

@@ -134,7 +134,7 @@ std::pair<double, double> maxEnergyAndFront(const json& scene, double until) {
 // A block starts a little over rho0 next to its walls (the lattice's kernel sums). Removed within
 // each step, that excess left at excess h / dt: a tenth of the default step gave the dam break
 // 20 % more energy than it had within 10 ms (r = 0.01), and the front ran ahead as the step was
-// lowered. Removed over the resolution's step (densityRelaxation "resolution", the default) the
+// lowered. Removed over the resolution's step (densityRelaxation "resolution", opt-in) the
 // energy stays at its start and the flow is the same at the default step and at an eighth of it.
 TEST(TimeStep, ALowerStepGivesTheSameFlowWithoutAddingEnergy) {
   const auto [defaultEnergy, defaultFront] = maxEnergyAndFront(damBreak(0), 0.1);
