@@ -129,7 +129,7 @@ void Simulation::chooseTimeStepCap() {
   // (cflFactor 1: the user's CFL factor is one of the step controls this must not follow).
   densityRelaxationTime_ = Real(kDefaultMaxTimeStep);
   if (speedScale_.speed > 0)
-    densityRelaxationTime_ = std::min(densityRelaxationTime_, Real(0.4) * 2 * scene_.particleRadius / speedScale_.speed);
+    densityRelaxationTime_ = std::min(densityRelaxationTime_, cflTimeStep(Real(1), speedScale_.speed));
   // A cap the user gave stands as it is.
   timeStepCap_ = scene_.maxTimeStep;
   if (scene_.maxTimeStepGiven) return;
@@ -140,7 +140,7 @@ void Simulation::chooseTimeStepCap() {
   std::ostringstream why;
   why << "default maximum time step: min(" << scene_.maxTimeStep << " s";
   if (speedScale_.speed > 0) {
-    const Real cfl = scene_.cflFactor * Real(0.4) * 2 * scene_.particleRadius / speedScale_.speed;
+    const Real cfl = cflTimeStep(scene_.cflFactor, speedScale_.speed);
     timeStepCap_ = std::min(timeStepCap_, cfl);
     why << ", CFL at the speed scale " << speedScale_.speed << " m/s: " << cfl << " s";
   }
@@ -316,9 +316,10 @@ void Simulation::removeParticlesOutside() {
 }
 
 StepContext Simulation::makeContext() {
-  return StepContext{*fluid_,        boundaryModel_->samples(), fluidNeighbors_, boundaryNeighbors_, kernel_,
-                     scene_.boundaryPressure, scene_.gravity, scene_.particleRadius, dt_, dtPrevious_,
-                     densityRelaxationTime_, time_,          stats_.steps,              log_};
+  return StepContext{*fluid_,          boundaryModel_->samples(), fluidNeighbors_, boundaryNeighbors_,
+                     kernel_,          scene_.boundaryPressure,   scene_.gravity,  scene_.particleRadius,
+                     dt_,              dtPrevious_,               densityRelaxationTime_, time_,
+                     stats_.steps,     log_};
 }
 
 void Simulation::step() {
@@ -491,7 +492,7 @@ void Simulation::updateTimeStep() {
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i)
     maxSpeed2 = std::max(maxSpeed2, (f.velocities[i] + dtOld * f.accelerations[i]).squaredNorm());
   Real dt = timeStepCap_;
-  if (maxSpeed2 > 0) dt = scene_.cflFactor * Real(0.4) * 2 * scene_.particleRadius / std::sqrt(maxSpeed2);
+  if (maxSpeed2 > 0) dt = cflTimeStep(scene_.cflFactor, std::sqrt(maxSpeed2));
   dt_ = std::clamp(dt, scene_.minTimeStep, timeStepCap_);
 }
 

@@ -129,6 +129,8 @@ class Simulation {
   // The cap of the adaptive step: maxTimeStep when the scene gives it, else the bound from the
   // resolution and the physics (CFL at the speed scale, explicit forces' stability).
   void chooseTimeStepCap();
+  // The CFL step cflFactor 0.4 (2r) / speed.
+  Real cflTimeStep(Real cflFactor, Real speed) const { return cflFactor * Real(0.4) * 2 * scene_.particleRadius / speed; }
   void dropParticlesInsideBodies();
   void emitParticles();
   void coupleRigidBodies(StepContext& ctx);

@@ -31,7 +31,7 @@ struct StepContext {
   Real dt;          // this step's time step (set before the pressure solve)
   Real dtPrevious;  // the previous step's (warm starts scale by it)
   // The time over which the implicit solvers remove a density excess a step starts with (drift),
-  // s: the step the resolution calls for (Simulation::densityRelaxationTime), not the step taken,
+  // s: the step the resolution calls for (Simulation::chooseTimeStepCap), not the step taken,
   // so lowering the step does not speed the correction up (SphPressureTerms.h, driftTarget).
   Real densityRelaxationTime;
   Real time;
