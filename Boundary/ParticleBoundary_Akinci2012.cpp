@@ -6,39 +6,13 @@
 
 #include "Boundary/MassProperties.h"
 #include "Boundary/MeshSampling.h"
+#include "Boundary/ObjectSampling.h"
 #include "Boundary/RestLayer.h"
 #include "Simulation/PluginRegistry.h"
 
 namespace consph {
 
 namespace {
-
-// The box sampled for an axis-aligned box object: shrunk by `offset` (a body) or grown (a
-// container). A body thinner than offset + one sampling distance keeps one sample spacing of
-// thickness around its mid-plane instead of turning inside out.
-Vector3r offsetBox(const BoundaryObject& o, Real offset, Real spacing, bool lower) {
-  Vector3r lo = o.boxMin, hi = o.boxMax;
-  for (int a = 0; a < 3; ++a) {
-    Real shift = o.inverted ? -offset : offset;
-    if (!o.inverted) shift = std::min(shift, std::max(Real(0), Real(0.5) * (hi[a] - lo[a] - spacing)));
-    lo[a] += shift;
-    hi[a] -= shift;
-  }
-  return lower ? lo : hi;
-}
-
-// Signed offset along the triangles' winding normals that moves samples into the solid. The
-// winding normals point out of a body and, for a container (whose triangles were flipped when
-// loaded), into it; a mesh whose signed volume says it is inside out is handled the other way.
-// An open mesh (no enclosed volume) is sampled on its surface.
-Real meshNormalOffset(const BoundaryObject& o, Real offset) {
-  const Real volume = computeMassProperties(o.mesh).volume;
-  Vector3r lo, hi;
-  o.mesh.boundingBox(lo, hi);
-  if (std::abs(volume) < Real(1e-6) * (hi - lo).prod()) return 0;
-  const bool outward = (volume > 0) != o.inverted;  // winding normals point away from the solid
-  return outward ? -offset : offset;
-}
 
 const PluginRegistration<BoundaryModel> registration{
     "Akinci2012",
@@ -119,9 +93,7 @@ BoundaryEstimate ParticleBoundary_Akinci2012::estimate(const std::vector<Boundar
 }
 
 std::vector<Vector3r> ParticleBoundary_Akinci2012::sampleObject(const BoundaryObject& o, Real offset) const {
-  return o.isBox ? sampleBoxSurface(offsetBox(o, offset, samplingDistance_, true), offsetBox(o, offset, samplingDistance_, false),
-                                    samplingDistance_)
-                 : sampleMeshSurface(o.mesh, samplingDistance_, meshNormalOffset(o, offset), log_, o.name.empty() ? o.path : o.name);
+  return sampleObjectSurface(o, samplingDistance_, offset, log_);
 }
 
 bool ParticleBoundary_Akinci2012::fluidReaches(const std::vector<Vector3r>& surfacePoints, const FluidModel& fluid,

@@ -31,6 +31,11 @@ struct RigidBody {
 
   std::vector<Index> samples;          // its boundary samples k
   std::vector<Vector3r> localSamples;  // their positions in the body frame, relative to x
+  // Its points in the contact surface (RigidBodySystem::contactSurface): its boundary samples
+  // where the model has a sample layer, else points on its mesh (volume maps), with their
+  // positions in the body frame relative to x (only for the latter).
+  std::vector<Index> contactSamples;
+  std::vector<Vector3r> localContactSamples;
   TriangleMesh localMesh;              // its surface in the body frame, relative to x (output)
 
   Matrix3r rotation() const { return q.toRotationMatrix(); }

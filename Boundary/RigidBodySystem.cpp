@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "Boundary/MassProperties.h"
+#include "Boundary/ObjectSampling.h"
 #include "Utilities/Error.h"
 #include "Utilities/VtkWriter.h"
 
@@ -22,8 +23,10 @@ std::vector<Real> frictionOf(const std::vector<BoundaryObject>& objects) {
 }  // namespace
 
 RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, const BoundarySamples& samples,
-                                 std::vector<Real> layerDepth, Real minContactDistance, const LogSink& log)
-    : contact_(std::move(layerDepth), frictionOf(objects), minContactDistance) {
+                                 std::vector<Real> layerDepth, Real minContactDistance, const LogSink& log,
+                                 Real contactSpacing)
+    : contact_(contactSpacing > 0 ? std::vector<Real>(layerDepth.size(), contactLayerDepth(contactSpacing)) : std::move(layerDepth),
+               frictionOf(objects), minContactDistance) {
   bodyOfObject_.assign(objects.size(), kNone);
   for (std::size_t o = 0; o < objects.size(); ++o) {
     const BoundaryObject& obj = objects[o];
@@ -69,6 +72,10 @@ RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, con
     bodies_[b].samples.push_back(Index(k));
     bodies_[b].localSamples.push_back(samples.positions[k] - bodies_[b].x);
   }
+  // Rigid contact only moves free dynamic bodies: without one, no contact surface is needed.
+  if (contactSpacing > 0 && dynamicCount_ > 0) sampleContactSurface(objects, contactSpacing, log);
+  else
+    for (RigidBody& b : bodies_) b.contactSamples = b.samples;
   hingeOfBody_.assign(bodies_.size(), kNone);
   for (std::size_t o = 0; o < objects.size(); ++o) {
     if (!objects[o].hinge.enabled) continue;
@@ -133,9 +140,45 @@ void RigidBodySystem::advance(Real dt, const Vector3r& gravity, const BoundarySa
     impulse_[i].setZero();
     angularImpulse_[i].setZero();
   }
-  contactCount_ = contact_.solve(bodies_, free, bodyOfObject_, samples, dt);
+  contactCount_ = contact_.solve(bodies_, free, bodyOfObject_, contactSurface(samples), dt);
   for (std::size_t i = 0; i < bodies_.size(); ++i)
     if (free[i] || bodies_[i].motion == BodyMotion::Animated) bodies_[i].advance(dt);  // animated: constant velocities
+  moveContactPoints();
+}
+
+void RigidBodySystem::sampleContactSurface(const std::vector<BoundaryObject>& objects, Real spacing, const LogSink& log) {
+  // The same surface sampling as particle walls, moved kContactLayerDepth into each solid:
+  // layers on the surfaces themselves would meet in one plane where two faces touch, and a
+  // normal from the other object's points there lies in that plane (measured: a box resting on
+  // the floor sank 1 cm and tilted).
+  ownContactSurface_ = true;
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    const BoundaryObject& obj = objects[o];
+    const std::vector<Vector3r> points = sampleObjectSurface(obj, spacing, contactLayerDepth(spacing), log);
+    const std::size_t first = contactPoints_.size();
+    contactPoints_.resize(first + points.size());
+    const Index b = bodyOfObject_[o];
+    for (std::size_t s = 0; s < points.size(); ++s) {
+      contactPoints_.positions[first + s] = points[s];
+      contactPoints_.bodies[first + s] = Index(o);
+      if (b == kNone) continue;
+      bodies_[b].contactSamples.push_back(Index(first + s));
+      bodies_[b].localContactSamples.push_back(points[s] - bodies_[b].x);
+    }
+  }
+  moveContactPoints();
+}
+
+void RigidBodySystem::moveContactPoints() {
+  if (!ownContactSurface_) return;
+  for (const RigidBody& b : bodies_) {
+    const Matrix3r R = b.rotation();
+    for (std::size_t s = 0; s < b.contactSamples.size(); ++s) {
+      const Index k = b.contactSamples[s];
+      contactPoints_.positions[k] = b.x + R * b.localContactSamples[s];
+      contactPoints_.velocities[k] = b.velocityAt(contactPoints_.positions[k]);
+    }
+  }
 }
 
 std::vector<char> RigidBodySystem::freeBodies() const {
@@ -145,7 +188,7 @@ std::vector<char> RigidBodySystem::freeBodies() const {
 }
 
 std::vector<RigidContact::Overlap> RigidBodySystem::overlaps(const BoundarySamples& samples, Real tolerance) {
-  return contact_.overlaps(bodies_, freeBodies(), bodyOfObject_, samples, tolerance);
+  return contact_.overlaps(bodies_, freeBodies(), bodyOfObject_, contactSurface(samples), tolerance);
 }
 
 void RigidBodySystem::advanceHinged(RigidBody& b, const HingeDescription& h, const Vector3r& J, const Vector3r& L,

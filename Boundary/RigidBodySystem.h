@@ -28,8 +28,12 @@ class RigidBodySystem {
   // all objects (sample k belongs to object samples.bodies[k]).
   // `layerDepth[o]`: how far object o's samples lie inside its solid (rigid contact);
   // `minContactDistance`: the closest two sample layers may come.
+  // `contactSpacing` > 0: the model's samples are no surface layer (volume maps: virtual
+  // particles rebuilt every step), so rigid contact works on points sampled on every object's
+  // surface this far apart instead (half that inside the solid), owned and moved by this
+  // system (contactSurface()).
   RigidBodySystem(const std::vector<BoundaryObject>& objects, const BoundarySamples& samples, std::vector<Real> layerDepth,
-                  Real minContactDistance, const LogSink& log);
+                  Real minContactDistance, const LogSink& log, Real contactSpacing = 0);
 
   bool empty() const { return bodies_.empty(); }
   bool hasDynamic() const { return dynamicCount_ > 0; }
@@ -51,6 +55,11 @@ class RigidBodySystem {
   std::vector<RigidContact::Overlap> overlaps(const BoundarySamples& samples, Real tolerance);
   // Contacts found in the last advance().
   std::size_t contactCount() const { return contactCount_; }
+  // The points rigid contact works on: the model's `samples`, or this system's own surface
+  // points when it was built with a contact spacing.
+  const BoundarySamples& contactSurface(const BoundarySamples& samples) const {
+    return ownContactSurface_ ? contactPoints_ : samples;
+  }
   // Positions and velocities of the moving bodies' samples from the bodies' state, and each
   // moving object's pose for the boundary model (an implicit one moves its maps with it).
   void updateBoundary(BoundaryModel& model) const;
@@ -69,6 +78,13 @@ class RigidBodySystem {
   // Free dynamic bodies: not hinged (rigid contact moves these only).
   std::vector<char> freeBodies() const;
   void advanceHinged(RigidBody& b, const HingeDescription& h, const Vector3r& J, const Vector3r& L, Real dt);
+  // How far own contact points lie inside their solid: half their spacing, so that two faces
+  // in touch hold their layers one spacing apart.
+  static Real contactLayerDepth(Real spacing) { return Real(0.5) * spacing; }
+  // Samples every object's surface into contactPoints_ (moving bodies' points also in the body frame).
+  void sampleContactSurface(const std::vector<BoundaryObject>& objects, Real spacing, const LogSink& log);
+  // The own contact points of the moving bodies where the bodies are now.
+  void moveContactPoints();
 
   std::vector<RigidBody> bodies_;
   std::vector<Index> hingeOfBody_;   // index into hinges_, or kNone
@@ -76,6 +92,8 @@ class RigidBodySystem {
   std::vector<Index> bodyOfObject_;  // object index -> body index, or kNone
   std::size_t dynamicCount_ = 0;
   RigidContact contact_;
+  bool ownContactSurface_ = false;
+  BoundarySamples contactPoints_;  // the own contact surface (contactSpacing > 0)
   std::size_t contactCount_ = 0;
   // Per-thread accumulators (threads x bodies x {impulse, angular impulse}), then their sum.
   std::vector<Vector3r> perThread_;

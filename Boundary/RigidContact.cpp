@@ -12,9 +12,9 @@ std::vector<RigidContact::Contact> RigidContact::findContacts(const std::vector<
                                                               const std::vector<char>& solvable,
                                                               const std::vector<Index>& bodyOfObject,
                                                               const BoundarySamples& samples) {
-  // Only free bodies with sample layers can touch anything (volume-map bodies have none).
+  // Only free bodies with contact points can touch anything.
   bool any = false;
-  for (std::size_t b = 0; b < bodies.size(); ++b) any |= solvable[b] && !bodies[b].samples.empty();
+  for (std::size_t b = 0; b < bodies.size(); ++b) any |= solvable[b] && !bodies[b].contactSamples.empty();
   if (!any) return {};
   const Real maxDepth = *std::max_element(layerDepth_.begin(), layerDepth_.end());
   const Real reach = std::max(2 * maxDepth, minDistance_);
@@ -34,7 +34,7 @@ std::vector<RigidContact::Contact> RigidContact::findContacts(const std::vector<
   movingPoints_.clear();
   movingIndex_.clear();
   for (const RigidBody& body : bodies)
-    for (Index k : body.samples) {
+    for (Index k : body.contactSamples) {
       movingPoints_.push_back(samples.positions[k]);
       movingIndex_.push_back(k);
     }
@@ -43,7 +43,7 @@ std::vector<RigidContact::Contact> RigidContact::findContacts(const std::vector<
   std::vector<Vector3r> lo(bodies.size(), Vector3r::Constant(std::numeric_limits<Real>::max())),
       hi(bodies.size(), Vector3r::Constant(std::numeric_limits<Real>::lowest()));
   for (std::size_t b = 0; b < bodies.size(); ++b)
-    for (Index k : bodies[b].samples) {
+    for (Index k : bodies[b].contactSamples) {
       lo[b] = lo[b].cwiseMin(samples.positions[k]);
       hi[b] = hi[b].cwiseMax(samples.positions[k]);
     }
@@ -60,10 +60,10 @@ std::vector<RigidContact::Contact> RigidContact::findContacts(const std::vector<
     const RigidBody& body = bodies[b];
     const Index object = body.object;
     const bool withMoving = nearOtherBody(b);
-    const std::ptrdiff_t n = std::ptrdiff_t(body.samples.size());
+    const std::ptrdiff_t n = std::ptrdiff_t(body.contactSamples.size());
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t s = 0; s < n; ++s) {
-      const Index k = body.samples[s];
+      const Index k = body.contactSamples[s];
       const Vector3r xk = samples.positions[k];
       // The closest other object, then its surface near x_k from the weighted mean and spread
       // of its samples there: a sample-to-sample direction would tilt wherever the two sample

@@ -1,5 +1,6 @@
 // Simple rigid contact: dynamic bodies against static objects, animated or hinged bodies and
-// each other, through their boundary samples. Velocity level, solved before the bodies move: for
+// each other, through points on their surfaces (RigidBody::contactSamples: the boundary samples
+// of particle walls, or points sampled for contact alone with volume maps). Velocity level, solved before the bodies move: for
 // every sample of a free dynamic body near a sample of another object, the relative normal
 // velocity may close at most the remaining gap this step and pushes apart at a bounded rate when
 // the layers already overlap (sequential impulses, accumulated and clamped non-negative, so

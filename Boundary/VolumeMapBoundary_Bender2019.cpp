@@ -109,14 +109,6 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
     nodes += map->nodeCount();
     maps_.push_back(std::move(map));
   }
-  std::string dynamicNames;
-  for (const BoundaryObject& o : objects)
-    if (o.motion == BodyMotion::Dynamic && !o.hinge.enabled)  // a hinge has no contact with either model
-      dynamicNames += (dynamicNames.empty() ? "" : ", ") + o.path + (o.name.empty() ? "" : " ('" + o.name + "')");
-  if (!dynamicNames.empty() && log_)
-    log_(LogLevel::Warning, "simulation.boundaryModel: VolumeMap bodies have no rigid contact (no sample layers): " + dynamicNames +
-                                " pass through other objects where no fluid holds them apart; use Akinci2012 for bodies that "
-                                "must rest on a wall or collide");
   if (!offsetNames.empty() && log_) {
     char line[160];
     std::snprintf(line, sizeof(line), "VolumeMap: surfaces %.3g r inside the solids (the resting fluid's surface on the meshes) of: ",

@@ -55,8 +55,11 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
     if (o.motion != BodyMotion::Static) {
       std::vector<Real> layerDepth(scene_.boundaries.size());
       for (std::size_t b = 0; b < layerDepth.size(); ++b) layerDepth[b] = boundaryModel_->layerDepth(b);
+      // Volume maps have no sample layer to touch with: rigid contact samples the surfaces
+      // itself, r apart (the particle walls' default sampling distance).
+      const Real contactSpacing = boundaryModel_->implicit() ? scene_.particleRadius : Real(0);
       bodies_ = std::make_unique<RigidBodySystem>(scene_.boundaries, boundaryModel_->samples(), std::move(layerDepth),
-                                                  scene_.particleRadius, log_);
+                                                  scene_.particleRadius, log_, contactSpacing);
       bodies_->updateBoundary(*boundaryModel_);  // the bodies' initial velocities
       break;
     }
