@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "Simulation/SceneFile.h"
+#include "Simulation/SplishSplashScene.h"
 #include "Utilities/Progress.h"
 #include "Utilities/ThreadCount.h"
 #include "Utilities/Timer.h"
@@ -24,7 +25,8 @@ SharedPyObject sharePyObject(py::object object) {
 }
 
 std::shared_ptr<PySimulation> PySimulation::create(const json& scene, const std::string& baseDir,
-                                                   const PythonPlugins& plugins, py::object log, const std::string& restartFrom) {
+                                                   const PythonPlugins& plugins, py::object log, const std::string& restartFrom,
+                                                   const std::function<json(json)>& options, const std::string& name) {
   std::shared_ptr<PySimulation> self(new PySimulation());
   self->logCallback_ = std::move(log);
   PySimulation* raw = self.get();  // the sink lives inside the Simulation `raw` owns
@@ -33,8 +35,20 @@ std::shared_ptr<PySimulation> PySimulation::create(const json& scene, const std:
     raw->pendingLog_.emplace_back(level, text);
   };
   const PluginRegistry registry = plugins.build(self);
+  // With the GIL: `options` reads Python objects. Messages wait in the sink until released() ends.
+  json consphScene;
+  try {
+    const bool splishsplash = isSplishSplashScene(scene);
+    if (splishsplash)
+      sink(LogLevel::Info, "a SPlisHSPlasH scene, run as the consph scene it maps to (docs/splishsplash.md; consph convert writes it out)");
+    consphScene = splishsplash ? convertSplishSplashScene(scene, baseDir, baseDir, name, sink) : scene;
+    if (options) consphScene = options(std::move(consphScene));
+  } catch (...) {
+    self->flushLog();
+    throw;
+  }
   self->released([&] {
-    SceneDescription description = parseScene(scene, baseDir, sink);
+    SceneDescription description = parseScene(consphScene, baseDir, sink);
     description.restartFrom = restartFrom;
     self->simulation_ = std::make_unique<Simulation>(std::move(description), registry, sink);
   });
@@ -214,10 +228,12 @@ in C++ with the GIL released. Particle arrays are zero-copy NumPy views: see Flu
           [](const py::object& path, const py::object& overrides, const py::object& plugins, py::object log,
              const py::object& output, const py::object& restart) {
             const std::string file = pathArgument(path);
-            const json scene = applyOptions(readJsonFile(file), overrides, output);
+            const json scene = readJsonFile(file);
             return namingSceneFile(file, [&] {
               return PySimulation::create(scene, std::filesystem::path(file).parent_path().string(), pluginsArgument(plugins),
-                                          std::move(log), restart.is_none() ? std::string() : pathArgument(restart));
+                                          std::move(log), restart.is_none() ? std::string() : pathArgument(restart),
+                                          [&](json s) { return applyOptions(std::move(s), overrides, output); },
+                                          std::filesystem::path(file).stem().string());
             });
           },
           py::arg("path"), py::kw_only(), py::arg("overrides") = py::none(), py::arg("plugins") = py::none(),
@@ -233,9 +249,9 @@ restart: a checkpoint of the same scene (save_checkpoint, output.checkpointInter
           "from_dict",
           [](const py::object& scene, const py::object& baseDir, const py::object& overrides, const py::object& plugins,
              py::object log, const py::object& output, const py::object& restart) {
-            const json description = applyOptions(toJson(scene, "scene"), overrides, output);
-            return PySimulation::create(description, pathArgument(baseDir), pluginsArgument(plugins), std::move(log),
-                                        restart.is_none() ? std::string() : pathArgument(restart));
+            return PySimulation::create(toJson(scene, "scene"), pathArgument(baseDir), pluginsArgument(plugins), std::move(log),
+                                        restart.is_none() ? std::string() : pathArgument(restart),
+                                        [&](json s) { return applyOptions(std::move(s), overrides, output); });
           },
           py::arg("scene"), py::kw_only(), py::arg("base_dir") = ".", py::arg("overrides") = py::none(),
           py::arg("plugins") = py::none(), py::arg("log") = py::none(), py::arg("output") = py::none(),

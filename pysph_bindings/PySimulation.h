@@ -43,8 +43,12 @@ class PySimulation : public std::enable_shared_from_this<PySimulation> {
   // the built-in plugins plus `plugins`' Python forces. `log`: None (warnings go to
   // warnings.warn, info to logging.getLogger("consph")) or callable(level: str, message: str).
   // `restartFrom`: a checkpoint of the same scene to continue from (empty: start at t = 0).
+  // A scene in SPlisHSPlasH's layout is first converted to the consph scene it maps to (as the
+  // CLI runs it, its warnings through `log`; `name`: the converted scene's name), and then
+  // `options` (the keyword arguments' overrides and output) apply to that consph scene.
   static std::shared_ptr<PySimulation> create(const json& scene, const std::string& baseDir, const PythonPlugins& plugins,
-                                              py::object log, const std::string& restartFrom = "");
+                                              py::object log, const std::string& restartFrom = "",
+                                              const std::function<json(json)>& options = {}, const std::string& name = "");
   ~PySimulation();
 
   // The simulation, for reading and writing between steps (or from inside a Python force on

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import consph
-from conftest import CLI, free_particles_scene, tank_scene
+from conftest import CLI, REPO, free_particles_scene, tank_scene
 
 
 def test_bad_scenes_raise_scene_error(tmp_path):
@@ -130,3 +130,26 @@ def test_output_folder_of_another_run_is_refused(tmp_path):
         consph.Simulation.from_dict(tank_scene(), output=tmp_path / "out")
     consph.Simulation.from_dict(tank_scene(), output=tmp_path / "out", overrides={"output.overwrite": True})
     assert json.loads((tmp_path / "out" / "scene.resolved.json").read_text())["name"] == "TinyTank"
+
+
+def test_a_splishsplash_scene_loads_as_the_cli_runs_it(tmp_path):
+    # from_file and from_dict recognise SPlisHSPlasH's layout and run the consph scene it maps to
+    # (the CLI's `consph run`); overrides then address that consph scene's keys.
+    path = os.path.join(REPO, "data", "splishsplash", "scenes", "DamBreakModel.json")
+    messages = []
+    sim = consph.Simulation.from_file(path, overrides={"simulation.stopAt": 0.02}, output=False,
+                                      log=lambda level, text: messages.append((level, text)))
+    assert any("SPlisHSPlasH scene" in text for _, text in messages)
+    assert any("mapResolution" in text for level, text in messages if level == "warning")
+    converted = tmp_path / "converted.json"
+    cli = subprocess.run([CLI, "convert", path, str(converted)], capture_output=True, text=True)
+    assert cli.returncode == 0, cli.stderr
+    reference = consph.Simulation.from_file(converted, overrides={"simulation.stopAt": 0.02}, output=False,
+                                            log=lambda level, text: None)
+    assert sim.scene["simulation"]["stopAt"] == 0.02
+    assert sim.fluids[0].size == reference.fluids[0].size
+    np.testing.assert_array_equal(sim.fluids[0].positions, reference.fluids[0].positions)
+    with open(path) as f:
+        as_dict = consph.Simulation.from_dict(json.load(f), base_dir=os.path.dirname(path), output=False,
+                                              log=lambda level, text: None)
+    assert as_dict.fluids[0].size == sim.fluids[0].size
