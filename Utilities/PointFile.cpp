@@ -153,10 +153,14 @@ PointFile readPly(const std::string& bytes, const std::string& path) {
   for (const PlyElement& e : elements) {
     const bool vertex = e.name == "vertex";
     int slot[6] = {-1, -1, -1, -1, -1, -1};  // x y z vx vy vz
+    // Velocities as vx vy vz, or as consph's own PLY frames name them (velocity_x ...), so a
+    // frame can start the next run.
     const char* names[6] = {"x", "y", "z", "vx", "vy", "vz"};
+    const char* frameNames[6] = {"x", "y", "z", "velocity_x", "velocity_y", "velocity_z"};
     for (std::size_t p = 0; p < e.properties.size(); ++p)
       for (int s = 0; s < 6; ++s)
-        if (e.properties[p].name == names[s] && e.properties[p].countType.empty()) slot[s] = int(p);
+        if ((e.properties[p].name == names[s] || e.properties[p].name == frameNames[s]) && e.properties[p].countType.empty())
+          slot[s] = int(p);
     if (vertex) {
       if (slot[0] < 0 || slot[1] < 0 || slot[2] < 0) throw InputError(path + ": the PLY vertex element has no x, y, z");
       found = true;

@@ -8,6 +8,8 @@
 #include "CliUtil.h"
 #include "Simulation/SplishSplashScene.h"
 #include "TestUtil.h"
+#include "Utilities/PlyWriter.h"
+#include "Utilities/PointFile.h"
 
 using namespace consph;
 
@@ -28,6 +30,28 @@ void boundsOf(const std::vector<Vector3r>& x, Vector3r& lo, Vector3r& hi) {
 }
 
 }  // namespace
+
+// consph's own PLY frames (binary, velocity as velocity_x velocity_y velocity_z) read back as a
+// particle file with their velocities, in both precisions.
+TEST(FluidSources, APlyFrameReadsBackWithItsVelocities) {
+  const std::string dir = test::tempDir("consph_fluid_sources_ply_frame");
+  const std::vector<Vector3r> x = {Vector3r(0.5, 0.25, 1), Vector3r(-1, 2, 0.125)}, v = {Vector3r(1, -2, 0.5), Vector3r(0, 0.25, -4)};
+  PointTable table;
+  table.positions = x.data();
+  table.size = x.size();
+  table.addReal("velocity", reinterpret_cast<const Real*>(v.data()), 3);
+  for (FramePrecision precision : {FramePrecision::Float, FramePrecision::Double}) {
+    const std::string path = dir + "/frame.ply";
+    std::ofstream(path, std::ios::binary) << serializePly(table, precision);
+    const PointFile read = readPointFile(path);
+    ASSERT_EQ(read.positions.size(), 2u);
+    ASSERT_EQ(read.velocities.size(), 2u) << "velocity_x/_y/_z not read";
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_EQ(read.positions[i], x[i]);  // all values exact in float
+      EXPECT_EQ(read.velocities[i], v[i]);
+    }
+  }
+}
 
 TEST(FluidSources, ParticleFileIsPlacedByItsTransform) {
   const std::string dir = test::tempDir("consph_fluid_sources_file");
