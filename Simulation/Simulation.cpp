@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "Simulation/FrameSeries.h"
@@ -586,7 +587,8 @@ void Simulation::setOutputDirectory(const std::string& dir) {
     writeFileAtomically((std::filesystem::path(dir) / "boundary.vtu").string(), cloud.serialize());
   }
   nextFrame_ = std::size_t(std::ceil(time_ * scene_.output.fps - Real(1e-6)));
-  if (resumed_.pending && dir == resumed_.directory) {
+  const bool continuing = resumed_.pending && dir == resumed_.directory;
+  if (continuing) {
     // The restarted run's series go on where the checkpoint left them (frame numbers, .pvd, bodies.csv).
     resumed_.pending = false;
     writer_->setFrames(resumed_.frames);
@@ -596,7 +598,11 @@ void Simulation::setOutputDirectory(const std::string& dir) {
   if (probes_) {
     std::string header = "time";
     for (const std::string& c : probes_->columns()) header += "," + c;
-    probeFile_ = std::make_unique<LineFile>((std::filesystem::path(dir) / "probes.csv").string(), header);
+    const std::string path = (std::filesystem::path(dir) / "probes.csv").string();
+    // A restarted run keeps the rows up to its checkpoint, as its frame series do; rows the
+    // first run wrote after it (before it was killed) are dropped, since this run writes them anew.
+    const std::string kept = continuing ? probeRowsUpTo(path, header, time_) : header;
+    probeFile_ = std::make_unique<LineFile>(path, kept);
     nextProbeRow_ = scene_.output.probeFps > 0 ? std::size_t(std::ceil(time_ * scene_.output.probeFps - Real(1e-6))) : 0;
   }
 }
@@ -643,6 +649,21 @@ void Simulation::writeProbeRowIfDue() {
     row += number;
   }
   probeFile_->append(row);
+}
+
+std::string Simulation::probeRowsUpTo(const std::string& path, const std::string& header, Real time) {
+  std::ifstream in(path);
+  std::string line, kept = header;
+  if (!in || !std::getline(in, line) || line != header) return header;  // none, or another scene's columns
+  // Rows carry their time as "%.9g" (writeProbeRowIfDue): compare with `time` printed the same way.
+  char number[32];
+  std::snprintf(number, sizeof(number), "%.9g", double(time));
+  const double last = std::strtod(number, nullptr);
+  while (std::getline(in, line)) {
+    if (line.empty() || !(std::strtod(line.c_str(), nullptr) <= last)) break;
+    kept += "\n" + line;
+  }
+  return kept;
 }
 
 void Simulation::computeAveragedPressure() {

@@ -144,6 +144,9 @@ class Simulation {
   void writeFrameIfDue();
   void writeCheckpointIfDue();
   void measureWallLoads(StepContext& ctx);
+  // The first line(s) of a restarted run's probes.csv: `header` and the rows of the file at
+  // `path` up to simulated time `time` (only `header` when the file is missing or its header differs).
+  static std::string probeRowsUpTo(const std::string& path, const std::string& header, Real time);
   void writeProbeRowIfDue();
   StepContext makeContext();
 

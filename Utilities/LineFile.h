@@ -8,7 +8,8 @@ namespace consph {
 
 class LineFile {
  public:
-  // Creates (truncates) `path` and writes `header` as its first line.
+  // Creates (truncates) `path` and writes `header` as its first line (or lines: a restarted
+  // run's probes.csv starts with the rows it keeps).
   LineFile(const std::string& path, const std::string& header);
   ~LineFile();
   LineFile(const LineFile&) = delete;

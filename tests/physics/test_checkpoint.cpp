@@ -136,6 +136,45 @@ TEST(Checkpoint, IntervalWritesRunFilesAndARestartContinuesTheSeries) {
   std::filesystem::remove_all(dir);
 }
 
+// probes.csv of a restarted run: the rows up to the checkpoint, then this run's, in time order
+// and without a gap or a repeat; rows the first run wrote after its checkpoint are dropped.
+TEST(Checkpoint, ARestartKeepsTheProbeRowsUpToItsCheckpoint) {
+  OneThread oneThread;
+  const std::string dir = scratchDir("probes");
+  json scene = checkpointScene();
+  scene["output"] = {{"directory", dir + "/out"}, {"fps", 100}, {"checkpointInterval", 0.02}};
+  scene["probes"] = json::parse(R"([{"name": "floor", "kind": "pressure", "position": [0.2, 0, 0.2]},
+                                    {"name": "crate", "kind": "force", "boundary": "crate"}])");
+  auto readRows = [&]() {
+    std::ifstream in(dir + "/out/probes.csv");
+    std::vector<std::string> rows;
+    for (std::string line; std::getline(in, line);) rows.push_back(line);
+    return rows;
+  };
+  auto straight = std::make_unique<Simulation>(parseScene(scene, ".", {}), builtinPlugins(), LogSink([](LogLevel, const std::string&) {}));
+  straight->run(Real(0.07));
+  const std::vector<std::string> reference = readRows();
+  straight.reset();
+  std::filesystem::remove_all(dir + "/out");
+  // The first run goes on past its second checkpoint (t = 0.04) to 0.05 and is "killed".
+  auto first = std::make_unique<Simulation>(parseScene(scene, ".", {}), builtinPlugins(), LogSink([](LogLevel, const std::string&) {}));
+  first->run(Real(0.05));
+  const std::size_t rowsWhenKilled = readRows().size();
+  first.reset();
+  auto restarted = restartedSimulation(scene, dir + "/out/checkpoint_00002.state");
+  const Real checkpointTime = restarted->time();
+  EXPECT_LT(readRows().size(), rowsWhenKilled);  // the rows after the checkpoint are gone
+  restarted->run(Real(0.07));
+  const std::vector<std::string> rows = readRows();
+  // Bit for bit the same run (one thread), so the same rows as the run that was never stopped.
+  EXPECT_EQ(rows, reference);
+  ASSERT_GT(rows.size(), 2u);
+  EXPECT_EQ(rows[0].rfind("time,floor,crate.fx", 0), 0u) << rows[0];
+  std::printf("[ probes ] %zu rows straight, %zu when killed at t = 0.05, restarted at t = %.4f: %zu rows\n", reference.size(),
+              rowsWhenKilled, double(checkpointTime), rows.size());
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Checkpoint, RefusesAnotherSceneNamingTheDifference) {
   const std::string path = scratchDir("mismatch") + "/state.ckpt";
   auto sim = simulationFromJson(checkpointScene());
