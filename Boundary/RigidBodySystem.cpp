@@ -93,6 +93,12 @@ RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, con
 
 void RigidBodySystem::gatherFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
                                           const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses) {
+  sumFluidImpulses(lists, fluidPositions, samples, pairImpulses, impulse_, angularImpulse_);
+}
+
+void RigidBodySystem::sumFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
+                                       const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses,
+                                       std::vector<Vector3r>& impulse, std::vector<Vector3r>& angularImpulse) {
   const std::size_t nb = bodies_.size(), n = lists.queryCount();
   const int threads = omp_get_max_threads();
   perThread_.assign(std::size_t(threads) * nb * 2, Vector3r::Zero());
@@ -116,9 +122,93 @@ void RigidBodySystem::gatherFluidImpulses(const NeighborLists& lists, const std:
   }
   for (int t = 0; t < threads; ++t)
     for (std::size_t b = 0; b < nb; ++b) {
-      impulse_[b] += perThread_[(std::size_t(t) * nb + b) * 2];
-      angularImpulse_[b] += perThread_[(std::size_t(t) * nb + b) * 2 + 1];
+      impulse[b] += perThread_[(std::size_t(t) * nb + b) * 2];
+      angularImpulse[b] += perThread_[(std::size_t(t) * nb + b) * 2 + 1];
     }
+}
+
+bool RigidBodySystem::hasFreeDynamic() const {
+  const std::vector<char> free = freeBodies();
+  return std::find(free.begin(), free.end(), 1) != free.end();
+}
+
+const std::vector<MovingPair>& RigidBodySystem::movingPairs(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
+                                                            const std::vector<Real>& fluidMasses, const BoundarySamples& samples) {
+  // Once per step: the neighbour lists are fixed until the bodies move (advance()).
+  if (movingPairsStep_ == stepsAdvanced_) return movingPairs_;
+  movingPairsStep_ = stepsAdvanced_;
+  const std::vector<char> free = freeBodies();
+  const std::size_t nb = bodies_.size();
+  movingPairs_.clear();
+  movingPairBody_.clear();
+  touchingMass_.assign(nb, Real(0));
+  touchingInertia_.assign(nb, Matrix3r::Zero());
+  // Serial: a body's pairs are a small share of all (the walls' are skipped at one test each).
+  std::vector<std::size_t> lastParticle(nb, ~std::size_t(0));
+  for (std::size_t i = 0; i < lists.queryCount(); ++i)
+    for (Index e = lists.begin(i); e < lists.end(i); ++e) {
+      const Index b = bodyOfObject_[samples.bodies[lists.indices[e]]];
+      if (b == kNone || !free[b]) continue;
+      movingPairs_.push_back({Index(i), e});
+      movingPairBody_.push_back(b);
+      if (lastParticle[b] == i) continue;  // each touching particle once per body
+      lastParticle[b] = i;
+      const Vector3r r = fluidPositions[i] - bodies_[b].x;
+      touchingMass_[b] += fluidMasses[i];
+      touchingInertia_[b] += fluidMasses[i] * (r.squaredNorm() * Matrix3r::Identity() - r * r.transpose());
+    }
+  return movingPairs_;
+}
+
+void RigidBodySystem::respond(const std::vector<Vector3r>& fluidPositions, const std::vector<Vector3r>& impulses,
+                              const Vector3r& gravity, Real dt, BoundarySamples& samples) {
+  trialImpulse_.assign(bodies_.size(), Vector3r::Zero());
+  trialAngularImpulse_.assign(bodies_.size(), Vector3r::Zero());
+  // As gatherFluidImpulses: the torque taken at the fluid particle.
+  for (std::size_t p = 0; p < movingPairs_.size(); ++p) {
+    const Index b = movingPairBody_[p];
+    trialImpulse_[b] += impulses[p];
+    trialAngularImpulse_[b] += (fluidPositions[movingPairs_[p].fluid] - bodies_[b].x).cross(impulses[p]);
+  }
+  // Free dynamic bodies only: hinged ones keep their joint (advanceHinged), animated ones
+  // their prescribed motion. Gravity counts: the fluid's support of a resting body's weight
+  // leaves it at rest, not rising.
+  const std::vector<char> free = freeBodies();
+  trialVelocity_.assign(bodies_.size(), Vector3r::Zero());
+  trialAngularVelocity_.assign(bodies_.size(), Vector3r::Zero());
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    if (!free[i]) continue;
+    const RigidBody& b = bodies_[i];
+    const Matrix3r R = b.rotation();
+    trialVelocity_[i] = b.v + (trialImpulse_[i] + dt * b.mass * gravity) / (b.mass + touchingMass_[i]);
+    trialAngularVelocity_[i] = b.w + (R * b.inertiaBody * R.transpose() + touchingInertia_[i]).inverse() * trialAngularImpulse_[i];
+  }
+  forEachFreeSample(samples, [&](Index k, std::size_t i) {
+    samples.velocities[k] = trialVelocity_[i] + trialAngularVelocity_[i].cross(samples.positions[k] - bodies_[i].x);
+  });
+}
+
+void RigidBodySystem::restore(BoundarySamples& samples) {
+  forEachFreeSample(samples, [&](Index k, std::size_t i) { samples.velocities[k] = bodies_[i].velocityAt(samples.positions[k]); });
+}
+
+template <class F>
+void RigidBodySystem::forEachFreeSample(const BoundarySamples& samples, F&& f) const {
+  const std::vector<char> free = freeBodies();
+  // A sampled model lists each body's samples; an implicit one (volume maps) makes new virtual
+  // samples every step, found by their object.
+  bool listed = true;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) listed &= !free[i] || !bodies_[i].samples.empty();
+  if (listed) {
+    for (std::size_t i = 0; i < bodies_.size(); ++i)
+      if (free[i])
+        for (Index k : bodies_[i].samples) f(k, i);
+    return;
+  }
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const Index i = bodyOfObject_[samples.bodies[k]];
+    if (i != kNone && free[i]) f(Index(k), std::size_t(i));
+  }
 }
 
 void RigidBodySystem::advance(Real dt, const Vector3r& gravity, const BoundarySamples& samples) {
@@ -141,6 +231,7 @@ void RigidBodySystem::advance(Real dt, const Vector3r& gravity, const BoundarySa
     angularImpulse_[i].setZero();
   }
   contactCount_ = contact_.solve(bodies_, free, bodyOfObject_, contactSurface(samples), dt);
+  ++stepsAdvanced_;
   for (std::size_t i = 0; i < bodies_.size(); ++i)
     if (free[i] || bodies_[i].motion == BodyMotion::Animated) bodies_[i].advance(dt);  // animated: constant velocities
   moveContactPoints();

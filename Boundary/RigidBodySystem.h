@@ -9,6 +9,7 @@
 
 #include "Boundary/RigidBody.h"
 #include "Boundary/RigidContact.h"
+#include "Simulation/BodyResponse.h"
 #include "Simulation/BoundarySamples.h"
 #include "Simulation/NeighborSearch.h"
 #include "Utilities/Log.h"
@@ -22,7 +23,7 @@ struct Hinge {
   HingeDescription description;
 };
 
-class RigidBodySystem {
+class RigidBodySystem : public BodyResponse {
  public:
   // Builds a body for every non-static object; `samples` are the boundary model's samples of
   // all objects (sample k belongs to object samples.bodies[k]).
@@ -46,6 +47,10 @@ class RigidBodySystem {
   // force's direction).
   void gatherFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
                            const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses);
+  // The same sums, added to `impulse` and `angularImpulse` (one per body).
+  void sumFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions, const BoundarySamples& samples,
+                        const std::vector<Vector3r>& pairImpulses, std::vector<Vector3r>& impulse,
+                        std::vector<Vector3r>& angularImpulse);
   // One step: dynamic bodies take the gathered impulses and gravity (hinged ones about their
   // axle, with the motor), free ones then rigid contact (RigidContact, on the current
   // `samples`), animated ones follow their prescribed velocity. Clears the impulses.
@@ -63,6 +68,14 @@ class RigidBodySystem {
   // Positions and velocities of the moving bodies' samples from the bodies' state, and each
   // moving object's pose for the boundary model (an implicit one moves its maps with it).
   void updateBoundary(BoundaryModel& model) const;
+
+  // BodyResponse: the free dynamic bodies' samples move as if the bodies took the impulses so far.
+  const std::vector<MovingPair>& movingPairs(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
+                                             const std::vector<Real>& fluidMasses, const BoundarySamples& samples) override;
+  void respond(const std::vector<Vector3r>& fluidPositions, const std::vector<Vector3r>& impulses, const Vector3r& gravity, Real dt,
+               BoundarySamples& samples) override;
+  void restore(BoundarySamples& samples) override;
+  bool hasFreeDynamic() const;
 
   // Linear momentum of the dynamic bodies, kg m/s.
   Vector3r momentum() const;
@@ -98,6 +111,18 @@ class RigidBodySystem {
   // Per-thread accumulators (threads x bodies x {impulse, angular impulse}), then their sum.
   std::vector<Vector3r> perThread_;
   std::vector<Vector3r> impulse_, angularImpulse_;
+  std::vector<Vector3r> trialImpulse_, trialAngularImpulse_;  // respond()'s sums
+  std::vector<Vector3r> trialVelocity_, trialAngularVelocity_;
+  // This step's moving pairs, their sample's body, and the fluid touching each body (respond's
+  // added mass); the step they are for.
+  std::vector<MovingPair> movingPairs_;
+  std::vector<Index> movingPairBody_;
+  std::vector<Real> touchingMass_;
+  std::vector<Matrix3r> touchingInertia_;
+  std::size_t movingPairsStep_ = ~std::size_t(0), stepsAdvanced_ = 0;
+  // Calls f(k, body) for every sample k of a free dynamic body.
+  template <class F>
+  void forEachFreeSample(const BoundarySamples& samples, F&& f) const;
   static constexpr Index kNone = ~Index(0);
 };
 

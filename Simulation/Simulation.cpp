@@ -323,7 +323,8 @@ StepContext Simulation::makeContext() {
   return StepContext{*fluid_,          boundaryModel_->samples(), fluidNeighbors_, boundaryNeighbors_,
                      kernel_,          scene_.boundaryPressure,   scene_.gravity,  scene_.particleRadius,
                      dt_,              dtPrevious_,               densityRelaxationTime_, time_,
-                     stats_.steps,     log_};
+                     stats_.steps,     log_,                      bodies_ && bodies_->hasFreeDynamic() ? bodies_.get() : nullptr,
+                     boundaryModel_->implicit()};
 }
 
 void Simulation::step() {
@@ -507,6 +508,9 @@ void Simulation::integrate() {
 }
 
 void Simulation::checkState() {
+  // Bodies first: a body gone non-finite or runaway passes it on to the fluid within its step
+  // (iterated coupling moves its samples during the solve), and the body is then the cause to name.
+  if (bodyGuard_) bodyGuard_->check(bodies_->bodies(), stats_.steps, time_);
   FluidModel& f = *fluid_;
   const std::ptrdiff_t n = std::ptrdiff_t(f.size());
   std::ptrdiff_t firstBad = n, firstOut = n;
@@ -529,7 +533,6 @@ void Simulation::checkState() {
       << "): it leaked through a boundary or the simulation blew up";
     throw SimulationError(s.str());
   }
-  if (bodyGuard_) bodyGuard_->check(bodies_->bodies(), stats_.steps, time_);
   if (stats_.consecutiveCapHits >= std::size_t(scene_.iterationCapSteps)) {
     std::ostringstream s;
     s << "step " << stats_.steps << ", t = " << time_ << " s: the pressure solver hit its iteration cap in "

@@ -3,6 +3,7 @@
 #include <string>
 #include <cstddef>
 
+#include "Simulation/BodyResponse.h"
 #include "Simulation/BoundarySamples.h"
 #include "Simulation/FluidModel.h"
 #include "Simulation/Kernel.h"
@@ -37,6 +38,11 @@ struct StepContext {
   Real time;
   std::size_t step;
   const LogSink& log;
+  // The free dynamic bodies, for a solver that lets them answer within its iterations; null
+  // when the scene has none.
+  BodyResponse* bodies = nullptr;
+  // The boundary samples are virtual particles rebuilt every step (volume maps), not sample layers.
+  bool implicitBoundary = false;
 };
 
 // Passed to plugin factories: what a plugin may look at when it is created.

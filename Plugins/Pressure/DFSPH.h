@@ -30,7 +30,11 @@ class DFSPH final : public PressureSolver {
     bool divergenceSolver, warmStart;
     Real overlapReliefSpeed;  // m/s, 0: off
     bool relaxOverResolutionStep;  // densityRelaxation "resolution" (driftTarget)
+    enum class BodyCoupling { Auto, Iterated, Explicit } bodyCoupling;  // Simulation/BodyResponse.h
   } settings_;
+  using BodyCoupling = Settings::BodyCoupling;
+  // Whether this step's free bodies answer within the iterations (bodyCoupling, resolved).
+  bool iteratesBodies(const StepContext& ctx) const;
 
   void computeDiagonal(StepContext& ctx);
   // Applies (a scaled half of) last step's accumulated beta, or zeroes it.
@@ -41,6 +45,24 @@ class DFSPH final : public PressureSolver {
   // v_i -= dt (sum_j m_j (k_i + k_j) grad W_ij + boundary term), Eqs. (16)/(33); `accumulated`
   // is the beta the velocities already carry (extrapolation fits p_k to accumulated + k).
   void applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k, const std::vector<Real>* accumulated);
+  // The reaction per boundary pair of what the solves applied so far (Eq. 35): the divergence
+  // solve's beta and p_k `divergenceP` over `divergenceDt` (0: none), and the density solve's
+  // over ctx.dt when `withDensity`.
+  void pairImpulses(const StepContext& ctx, Real divergenceDt, const std::vector<Real>& divergenceP, bool withDensity,
+                    std::vector<Vector3r>& impulsePerPair) const;
+  // pairImpulses' value for the pair e of fluid particle i.
+  Vector3r pairImpulse(const StepContext& ctx, Index i, Index e, Real divergenceDt, const std::vector<Real>& divergenceP,
+                       bool withDensity) const {
+    const FluidModel& f = ctx.fluid;
+    const Index k = ctx.boundaryNeighbors.indices[e];
+    const Real rho2 = f.densities[i] * f.densities[i];
+    const Real betaDiv = divergenceBeta_[i], betaDen = densityBeta_[i];
+    Real c = withDensity ? ctx.dt * treatment_.pairFactor(k, betaDen, betaDen * rho2, treatment_.boundaryPressures()) : Real(0);
+    if (divergenceDt > 0) c += divergenceDt * treatment_.pairFactor(k, betaDiv, betaDiv * rho2, divergenceP);
+    return (f.masses[i] * ctx.boundary.masses[k] * c) * ctx.boundaryNeighbors.gradW[e];
+  }
+  // Iterated coupling: the free bodies' samples move as the impulses so far would move them.
+  void letBodiesRespond(StepContext& ctx, bool densitySolve);
 
   std::vector<Real>& densityBeta_;     // accumulated beta of the density solve (warm start), sorted field
   std::vector<Real>& divergenceBeta_;  // accumulated beta of the divergence solve, sorted field
@@ -49,6 +71,7 @@ class DFSPH final : public PressureSolver {
   BoundaryPressureTreatment treatment_;
   Real divergenceDt_ = 0;                 // the time step the divergence solve of this step used
   std::vector<Real> divergenceBoundaryP_; // extrapolation: p_k of the divergence solve (its total)
+  std::vector<Vector3r> trialImpulses_;   // letBodiesRespond's per-pair impulses
 };
 
 }  // namespace consph
