@@ -89,16 +89,12 @@ RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, con
   }
   impulse_.assign(bodies_.size(), Vector3r::Zero());
   angularImpulse_.assign(bodies_.size(), Vector3r::Zero());
+  free_.assign(bodies_.size(), 0);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) free_[i] = bodies_[i].motion == BodyMotion::Dynamic && hingeOfBody_[i] == kNone;
 }
 
 void RigidBodySystem::gatherFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
                                           const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses) {
-  sumFluidImpulses(lists, fluidPositions, samples, pairImpulses, impulse_, angularImpulse_);
-}
-
-void RigidBodySystem::sumFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
-                                       const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses,
-                                       std::vector<Vector3r>& impulse, std::vector<Vector3r>& angularImpulse) {
   const std::size_t nb = bodies_.size(), n = lists.queryCount();
   const int threads = omp_get_max_threads();
   perThread_.assign(std::size_t(threads) * nb * 2, Vector3r::Zero());
@@ -122,22 +118,18 @@ void RigidBodySystem::sumFluidImpulses(const NeighborLists& lists, const std::ve
   }
   for (int t = 0; t < threads; ++t)
     for (std::size_t b = 0; b < nb; ++b) {
-      impulse[b] += perThread_[(std::size_t(t) * nb + b) * 2];
-      angularImpulse[b] += perThread_[(std::size_t(t) * nb + b) * 2 + 1];
+      impulse_[b] += perThread_[(std::size_t(t) * nb + b) * 2];
+      angularImpulse_[b] += perThread_[(std::size_t(t) * nb + b) * 2 + 1];
     }
 }
 
-bool RigidBodySystem::hasFreeDynamic() const {
-  const std::vector<char> free = freeBodies();
-  return std::find(free.begin(), free.end(), 1) != free.end();
-}
+bool RigidBodySystem::hasFreeDynamic() const { return std::find(free_.begin(), free_.end(), 1) != free_.end(); }
 
 const std::vector<MovingPair>& RigidBodySystem::movingPairs(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
                                                             const std::vector<Real>& fluidMasses, const BoundarySamples& samples) {
   // Once per step: the neighbour lists are fixed until the bodies move (advance()).
   if (movingPairsStep_ == stepsAdvanced_) return movingPairs_;
   movingPairsStep_ = stepsAdvanced_;
-  const std::vector<char> free = freeBodies();
   const std::size_t nb = bodies_.size();
   movingPairs_.clear();
   movingPairBody_.clear();
@@ -148,7 +140,7 @@ const std::vector<MovingPair>& RigidBodySystem::movingPairs(const NeighborLists&
   for (std::size_t i = 0; i < lists.queryCount(); ++i)
     for (Index e = lists.begin(i); e < lists.end(i); ++e) {
       const Index b = bodyOfObject_[samples.bodies[lists.indices[e]]];
-      if (b == kNone || !free[b]) continue;
+      if (b == kNone || !free_[b]) continue;
       movingPairs_.push_back({Index(i), e});
       movingPairBody_.push_back(b);
       if (lastParticle[b] == i) continue;  // each touching particle once per body
@@ -173,11 +165,10 @@ void RigidBodySystem::respond(const std::vector<Vector3r>& fluidPositions, const
   // Free dynamic bodies only: hinged ones keep their joint (advanceHinged), animated ones
   // their prescribed motion. Gravity counts: the fluid's support of a resting body's weight
   // leaves it at rest, not rising.
-  const std::vector<char> free = freeBodies();
   trialVelocity_.assign(bodies_.size(), Vector3r::Zero());
   trialAngularVelocity_.assign(bodies_.size(), Vector3r::Zero());
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    if (!free[i]) continue;
+    if (!free_[i]) continue;
     const RigidBody& b = bodies_[i];
     const Matrix3r R = b.rotation();
     trialVelocity_[i] = b.v + (trialImpulse_[i] + dt * b.mass * gravity) / (b.mass + touchingMass_[i]);
@@ -194,20 +185,19 @@ void RigidBodySystem::restore(BoundarySamples& samples) {
 
 template <class F>
 void RigidBodySystem::forEachFreeSample(const BoundarySamples& samples, F&& f) const {
-  const std::vector<char> free = freeBodies();
   // A sampled model lists each body's samples; an implicit one (volume maps) makes new virtual
   // samples every step, found by their object.
   bool listed = true;
-  for (std::size_t i = 0; i < bodies_.size(); ++i) listed &= !free[i] || !bodies_[i].samples.empty();
+  for (std::size_t i = 0; i < bodies_.size(); ++i) listed &= !free_[i] || !bodies_[i].samples.empty();
   if (listed) {
     for (std::size_t i = 0; i < bodies_.size(); ++i)
-      if (free[i])
+      if (free_[i])
         for (Index k : bodies_[i].samples) f(k, i);
     return;
   }
   for (std::size_t k = 0; k < samples.size(); ++k) {
     const Index i = bodyOfObject_[samples.bodies[k]];
-    if (i != kNone && free[i]) f(Index(k), std::size_t(i));
+    if (i != kNone && free_[i]) f(Index(k), std::size_t(i));
   }
 }
 
@@ -272,14 +262,9 @@ void RigidBodySystem::moveContactPoints() {
   }
 }
 
-std::vector<char> RigidBodySystem::freeBodies() const {
-  std::vector<char> free(bodies_.size(), 0);
-  for (std::size_t i = 0; i < bodies_.size(); ++i) free[i] = bodies_[i].motion == BodyMotion::Dynamic && hingeOfBody_[i] == kNone;
-  return free;
-}
 
 std::vector<RigidContact::Overlap> RigidBodySystem::overlaps(const BoundarySamples& samples, Real tolerance) {
-  return contact_.overlaps(bodies_, freeBodies(), bodyOfObject_, contactSurface(samples), tolerance);
+  return contact_.overlaps(bodies_, free_, bodyOfObject_, contactSurface(samples), tolerance);
 }
 
 void RigidBodySystem::advanceHinged(RigidBody& b, const HingeDescription& h, const Vector3r& J, const Vector3r& L,

@@ -47,10 +47,6 @@ class RigidBodySystem : public BodyResponse {
   // force's direction).
   void gatherFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
                            const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses);
-  // The same sums, added to `impulse` and `angularImpulse` (one per body).
-  void sumFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions, const BoundarySamples& samples,
-                        const std::vector<Vector3r>& pairImpulses, std::vector<Vector3r>& impulse,
-                        std::vector<Vector3r>& angularImpulse);
   // One step: dynamic bodies take the gathered impulses and gravity (hinged ones about their
   // axle, with the motor), free ones then rigid contact (RigidContact, on the current
   // `samples`), animated ones follow their prescribed velocity. Clears the impulses.
@@ -88,8 +84,8 @@ class RigidBodySystem : public BodyResponse {
   void worldMeshes(TriangleMesh& mesh, std::vector<Index>& body, std::vector<Vector3r>& velocity) const;
 
  private:
-  // Free dynamic bodies: not hinged (rigid contact moves these only).
-  std::vector<char> freeBodies() const;
+  // Free dynamic bodies: not hinged (rigid contact moves these only); fixed at construction.
+  std::vector<char> free_;
   void advanceHinged(RigidBody& b, const HingeDescription& h, const Vector3r& J, const Vector3r& L, Real dt);
   // How far own contact points lie inside their solid: half their spacing, so that two faces
   // in touch hold their layers one spacing apart.

@@ -8,8 +8,9 @@
 // body's: every touching particle's increment is sized as if the body did not move, so a body
 // answering with its own mass alone takes all their pushes at once and overshoots (a volume-map
 // box under a squeezed film spun up to 530 rad/s within one step's iterations); with the added
-// mass, the body's answer per iteration stays below what stops the squeeze. Weak coupling with sub-iterations in the sense of the paper's
-// Section 3.5 ([ICS*14] weak, [GPB*19] strong); not [GPB*19]'s interlinked solver.
+// mass, the body's answer per iteration stays below what stops the squeeze. Weak coupling with
+// sub-iterations in the sense of the paper's Section 3.5 ([ICS*14] weak, [GPB*19] strong); not
+// [GPB*19]'s interlinked solver.
 #pragma once
 #include <vector>
 
