@@ -17,6 +17,7 @@ struct RigidBody {
   Index object = 0;  // index of its boundary object (BoundarySamples::bodies)
 
   Real mass = 0;                                  // kg
+  Real volume = 0;                                // m^3 (dynamic bodies)
   Matrix3r inertiaBody = Matrix3r::Identity();    // about the centre of mass, body frame, kg m^2
   Matrix3r invInertiaBody = Matrix3r::Identity();
 

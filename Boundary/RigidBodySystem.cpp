@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "Boundary/AddedMass.h"
 #include "Boundary/MassProperties.h"
 #include "Boundary/ObjectSampling.h"
 #include "Utilities/Error.h"
@@ -41,6 +42,7 @@ RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, con
         throw InputError(obj.path + ": a dynamic body needs a closed mesh with outward-facing triangles (its volume is " +
                          std::to_string(mp.volume) + " m^3)");
       b.mass = obj.density * mp.volume;
+      b.volume = mp.volume;
       b.inertiaBody = obj.density * mp.inertiaPerDensity;
       b.invInertiaBody = b.inertiaBody.inverse();
       b.x = mp.centerOfMass;
@@ -121,6 +123,23 @@ void RigidBodySystem::gatherFluidImpulses(const NeighborLists& lists, const std:
       impulse_[b] += perThread_[(std::size_t(t) * nb + b) * 2];
       angularImpulse_[b] += perThread_[(std::size_t(t) * nb + b) * 2 + 1];
     }
+  // The fluid touching each light body (advance() lends it to the body), each particle once.
+  // Serial, and only with a light body in the scene.
+  touching_.resize(nb);
+  for (auto& t : touching_) t.clear();
+  if (std::none_of(addedMass_.begin(), addedMass_.end(), [](Real m) { return m > 0; })) return;
+  for (std::size_t i = 0; i < n; ++i)
+    for (Index e = lists.begin(i); e < lists.end(i); ++e) {
+      const Index b = bodyOfObject_[samples.bodies[lists.indices[e]]];
+      if (b == kNone || !(addedMass_[b] > 0)) continue;
+      if (touching_[b].empty() || touching_[b].back() != Index(i)) touching_[b].push_back(Index(i));
+    }
+}
+
+void RigidBodySystem::setFluidDensity(Real rho0) {
+  addedMass_.assign(bodies_.size(), Real(0));
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    if (free_[i]) addedMass_[i] = std::max(Real(0), kAddedMassCoefficient * rho0 * bodies_[i].volume - bodies_[i].mass);
 }
 
 bool RigidBodySystem::hasFreeDynamic() const { return std::find(free_.begin(), free_.end(), 1) != free_.end(); }
@@ -201,7 +220,8 @@ void RigidBodySystem::forEachFreeSample(const BoundarySamples& samples, F&& f) c
   }
 }
 
-void RigidBodySystem::advance(Real dt, const Vector3r& gravity, const BoundarySamples& samples) {
+void RigidBodySystem::advance(Real dt, const Vector3r& gravity, const BoundarySamples& samples, const std::vector<Vector3r>& fluidPositions,
+                              const std::vector<Real>& fluidMasses, std::vector<Vector3r>& fluidVelocities) {
   // Velocities first (hinged bodies move about their axle at once), then contact on the free
   // dynamic bodies' new velocities, then their positions.
   std::vector<char> free(bodies_.size(), 0);
@@ -213,7 +233,13 @@ void RigidBodySystem::advance(Real dt, const Vector3r& gravity, const BoundarySa
       const Vector3r J = impulse_[i] + dt * b.mass * gravity;
       if (hingeOfBody_[i] != kNone) advanceHinged(b, hinges_[hingeOfBody_[i]].description, J, angularImpulse_[i], dt);
       else {
-        b.applyImpulses(J, angularImpulse_[i], dt);
+        if (i < addedMass_.size() && addedMass_[i] > 0) {
+          const BodyIncrement inc = shareWithTouchingFluid(b, J, angularImpulse_[i], dt, addedMass_[i], touching_[i], fluidPositions,
+                                                           fluidMasses, fluidVelocities);
+          b.v += inc.dv;
+          b.w += inc.dw;
+        } else
+          b.applyImpulses(J, angularImpulse_[i], dt);
         free[i] = 1;
       }
     }

@@ -50,7 +50,13 @@ class RigidBodySystem : public BodyResponse {
   // One step: dynamic bodies take the gathered impulses and gravity (hinged ones about their
   // axle, with the motor), free ones then rigid contact (RigidContact, on the current
   // `samples`), animated ones follow their prescribed velocity. Clears the impulses.
-  void advance(Real dt, const Vector3r& gravity, const BoundarySamples& samples);
+  // A light free body (Boundary/AddedMass.h) shares its impulses with the fluid touching it
+  // (found by gatherFluidImpulses): their velocities change too.
+  void advance(Real dt, const Vector3r& gravity, const BoundarySamples& samples, const std::vector<Vector3r>& fluidPositions,
+               const std::vector<Real>& fluidMasses, std::vector<Vector3r>& fluidVelocities);
+  // The fluid's rest density: from it each free body's added mass (AddedMass.h; 0 for a body
+  // at least kAddedMassCoefficient times as dense as the fluid).
+  void setFluidDensity(Real rho0);
   // Object pairs whose sample layers overlap by more than `tolerance` m now, one of them a free
   // dynamic body (a start-up check: bodies drawn into each other or into a wall).
   std::vector<RigidContact::Overlap> overlaps(const BoundarySamples& samples, Real tolerance);
@@ -114,6 +120,8 @@ class RigidBodySystem : public BodyResponse {
   std::vector<MovingPair> movingPairs_;
   std::vector<Index> movingPairBody_;
   std::vector<Real> touchingMass_;
+  std::vector<Real> addedMass_;                // per body, kg (setFluidDensity)
+  std::vector<std::vector<Index>> touching_;   // this step's fluid touching each light body
   std::vector<Matrix3r> touchingInertia_;
   std::size_t movingPairsStep_ = ~std::size_t(0), stepsAdvanced_ = 0;
   // Calls f(k, body) for every sample k of a free dynamic body.

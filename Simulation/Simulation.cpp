@@ -61,6 +61,7 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
       const Real contactSpacing = boundaryModel_->implicit() ? scene_.particleRadius : Real(0);
       bodies_ = std::make_unique<RigidBodySystem>(scene_.boundaries, boundaryModel_->samples(), std::move(layerDepth),
                                                   scene_.particleRadius, log_, contactSpacing);
+      bodies_->setFluidDensity(fluid_->density0());
       bodies_->updateBoundary(*boundaryModel_);  // the bodies' initial velocities
       break;
     }
@@ -291,7 +292,7 @@ void Simulation::coupleRigidBodies(StepContext& ctx) {
   // bodies move and take their samples along. Animated bodies are not moved by it, but their
   // fluid force is reported too.
   bodies_->gatherFluidImpulses(boundaryNeighbors_, fluid_->positions, boundaryModel_->samples(), pairImpulses_);
-  bodies_->advance(dt_, scene_.gravity, boundaryModel_->samples());
+  bodies_->advance(dt_, scene_.gravity, boundaryModel_->samples(), fluid_->positions, fluid_->masses, fluid_->velocities);
   bodies_->updateBoundary(*boundaryModel_);
   boundaryModel_->markMoved();
 }
