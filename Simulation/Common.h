@@ -1,22 +1,4 @@
-// Basic numeric types shared by every part of consph.
+// The basic numeric types (Real, Vector3r, Matrix3r, Quaternionr, Index) for the simulation
+// layers; they are defined in Utilities/Types.h, which the utilities include directly.
 #pragma once
-#include <Eigen/Core>
-#include <cstdint>
-
-namespace consph {
-
-#if CONSPH_USE_DOUBLE
-using Real = double;
-#else
-using Real = float;
-#endif
-
-// DontAlign: fields are std::vector<Vector3r> that map 1:1 onto a NumPy (N, 3) array.
-using Vector3r = Eigen::Matrix<Real, 3, 1, Eigen::DontAlign>;
-using Matrix3r = Eigen::Matrix<Real, 3, 3, Eigen::DontAlign>;
-using Quaternionr = Eigen::Quaternion<Real, Eigen::DontAlign>;
-using Index = std::uint32_t;
-
-inline constexpr const char* precisionName() { return sizeof(Real) == 8 ? "double" : "float"; }
-
-}  // namespace consph
+#include "Utilities/Types.h"

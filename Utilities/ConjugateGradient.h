@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "Simulation/Common.h"
+#include "Utilities/Types.h"
 
 namespace consph {
 

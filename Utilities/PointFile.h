@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "Simulation/Common.h"
+#include "Utilities/Types.h"
 
 namespace consph {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "Simulation/Common.h"
+#include "Utilities/Types.h"
 
 namespace consph {
 

@@ -21,7 +21,7 @@
 #include <limits>
 #include <vector>
 
-#include "Simulation/Common.h"
+#include "Utilities/Types.h"
 #include "Utilities/TriangleMesh.h"
 
 namespace consph {

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "Simulation/Common.h"
+#include "Utilities/Types.h"
 
 namespace consph {
 

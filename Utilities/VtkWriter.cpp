@@ -125,19 +125,6 @@ std::string serializeVtu(const PointTable& table, FramePrecision precision) {
   return cloud.serialize();
 }
 
-std::string particlesToVtu(ParticleFields& fields, std::size_t n) {
-  FieldBase* positions = fields.find("position");
-  VtuPointCloud cloud(static_cast<const Vector3r*>(positions->data()), n);
-  for (auto& f : fields.all()) {
-    if (!(f->flags() & FieldExported) || f.get() == positions) continue;
-    if (f->type() == FieldType::Index)
-      cloud.add(f->name(), static_cast<const Index*>(f->data()));
-    else
-      cloud.add(f->name(), static_cast<const Real*>(f->data()), f->components());
-  }
-  return cloud.serialize();
-}
-
 VtkSeries::VtkSeries(std::string directory, std::string name) : directory_(std::move(directory)), name_(std::move(name)) {
   std::error_code ec;
   std::filesystem::create_directories(directory_, ec);

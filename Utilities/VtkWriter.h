@@ -5,7 +5,6 @@
 #include <string>
 #include <vector>
 
-#include "Simulation/ParticleFields.h"
 #include "Utilities/PointTable.h"
 
 namespace consph {
@@ -47,9 +46,6 @@ class VtuPointCloud {
 
 // The .vtu of a point table (a mesh when it has triangles).
 std::string serializeVtu(const PointTable& table, FramePrecision precision);
-
-// Every exported field of a particle set, the first n particles.
-std::string particlesToVtu(ParticleFields& fields, std::size_t n);
 
 // A time series: NAME_00000.vtu, ... and NAME.pvd listing them with their times.
 class VtkSeries {
