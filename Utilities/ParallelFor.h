@@ -1,0 +1,137 @@
+// One dispatch for particle loops: every parallel loop over particles (or samples, pairs, grid
+// slices) goes through these functions, with OpenMP behind them today.
+//
+//   parallelFor(n, f)              f(i) for every i in [0, n), static schedule (equal chunks in
+//                                  thread order): for loops whose iterations cost about the same
+//   parallelForDynamic(n, f, c)    the same with a dynamic schedule in chunks of c: for iterations
+//                                  of very different cost (mesh queries, grid slices)
+//   parallelReduce(n, id, join, body)
+//                                  body(i, acc) adds iteration i into acc, one accumulator per
+//                                  thread starting at `id`; join(into, from) folds one into another
+//   parallelReduceDynamic(n, id, join, body, c)
+//                                  the same with a dynamic schedule, for exact joins only
+//                                  (integer counts, min, max, flags)
+//   parallelSum<T>(n, f)           sum of f(i) in T        parallelMax<T>(n, init, f)  max(init, f(i))
+//   parallelAny(n, pred)           whether pred(i) holds for some i
+//
+// Reductions are reproducible: the schedule is static, each thread folds its own contiguous chunk
+// in index order, and the threads' accumulators are joined in thread order after the loop, so
+// a run gives the same bits with the same thread count. (OpenMP's reduction clause joins in the
+// order the threads arrive; with two threads and a zero start the two orders give the same sum,
+// which is why converting the clauses changed no result.) The result of a sum still depends on
+// the thread count, as it did with the clause.
+//
+// What a GPU backend needs from this seam, and what the loops behind it already give it:
+// - the body takes an index and nothing else: no iteration reads what another one writes, except
+//   through parallelReduce's accumulator; no locks, no atomics, no omp_get_thread_num();
+// - the data a body touches must live on the device: today the bodies capture std::vector& and
+//   StepContext& by reference; a device backend needs them as spans (pointer and size) of fields
+//   that are mirrored on the device, captured by value (issue 17: spans in the context), and the
+//   bodies must be callable there (no virtual calls, no allocation, no exceptions, no logging);
+// - a reduction's join must be associative (the device joins in a tree, not in thread order):
+//   device sums will differ from the CPU's in the last bits, as they do across thread counts;
+// - parallelForDynamic is a hint of uneven cost; a device launch ignores it;
+// - the loops left raw (neighbour-list build, rigid contacts, per-body impulse gathering) keep
+//   per-thread buffers indexed by thread number and concatenate them in thread order: a device
+//   backend replaces them with a count / prefix-sum / fill pass, or with a per-block reduction.
+#pragma once
+#include <algorithm>
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace consph {
+
+// f(i) for every i in [0, n), static schedule: equal contiguous chunks in thread order.
+template <class F>
+void parallelFor(std::size_t n, F&& f) {
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) f(i);
+}
+
+// f(i) for every i in [0, n), dynamic schedule: threads take `chunk` iterations at a time.
+template <class F>
+void parallelForDynamic(std::size_t n, F&& f, std::size_t chunk = 256) {
+  chunk = std::max<std::size_t>(chunk, 1);
+#pragma omp parallel for schedule(dynamic, chunk)
+  for (std::size_t i = 0; i < n; ++i) f(i);
+}
+
+namespace parallel_detail {
+// One accumulator per thread, folded in thread order after the loop; chunk 0: static schedule.
+template <class T, class Join, class Body>
+T reduce(std::size_t n, T identity, Join& join, Body& body, std::size_t chunk) {
+  T result = identity;
+#ifdef _OPENMP
+  // One slot per thread (a struct: std::vector<bool> packs bits that threads would share).
+  struct Slot {
+    T value;
+  };
+  std::vector<Slot> partial(std::size_t(omp_get_max_threads()), Slot{identity});
+  int team = 1;
+#pragma omp parallel
+  {
+    T local = identity;
+    if (chunk == 0) {
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) body(i, local);
+    } else {
+#pragma omp for schedule(dynamic, chunk)
+      for (std::size_t i = 0; i < n; ++i) body(i, local);
+    }
+    const int t = omp_get_thread_num();
+    partial[std::size_t(t)].value = std::move(local);
+    if (t == 0) team = omp_get_num_threads();
+  }
+  for (int t = 0; t < team; ++t) join(result, partial[std::size_t(t)].value);
+#else
+  for (std::size_t i = 0; i < n; ++i) body(i, result);
+#endif
+  return result;
+}
+}  // namespace parallel_detail
+
+// body(i, acc) for every i in [0, n), static schedule, into one accumulator per thread that
+// starts as a copy of `identity`; then identity, joined with every thread's accumulator in
+// thread order by join(into, from), is returned. `identity` must be neutral for join (0 for a
+// sum, the lowest value or a known lower bound for a max).
+template <class T, class Join, class Body>
+T parallelReduce(std::size_t n, T identity, Join&& join, Body&& body) {
+  return parallel_detail::reduce(n, std::move(identity), join, body, 0);
+}
+
+// parallelReduce with a dynamic schedule (chunks of `chunk`): which thread adds which index
+// changes from run to run, so only for joins whose result does not depend on the grouping
+// (integer counts, min, max, flags), never for floating-point sums.
+template <class T, class Join, class Body>
+T parallelReduceDynamic(std::size_t n, T identity, Join&& join, Body&& body, std::size_t chunk = 256) {
+  return parallel_detail::reduce(n, std::move(identity), join, body, std::max<std::size_t>(chunk, 1));
+}
+
+// The sum of f(i) over [0, n), accumulated in T (f's value is converted to T before it is added).
+template <class T, class F>
+T parallelSum(std::size_t n, F&& f) {
+  return parallelReduce(n, T(0), [](T& into, const T& from) { into += from; }, [&](std::size_t i, T& acc) { acc += f(i); });
+}
+
+// max(init, f(0), ..., f(n-1)); a NaN f(i) is skipped (std::max keeps the accumulator).
+template <class T, class F>
+T parallelMax(std::size_t n, T init, F&& f) {
+  return parallelReduce(n, init, [](T& into, const T& from) { into = std::max(into, from); },
+                        [&](std::size_t i, T& acc) { acc = std::max<T>(acc, f(i)); });
+}
+
+// Whether pred(i) holds for some i in [0, n). Each thread stops calling pred once it has found
+// one, so pred must have no side effects the caller relies on.
+template <class Pred>
+bool parallelAny(std::size_t n, Pred&& pred) {
+  return parallelReduce(n, false, [](bool& into, bool from) { into = into || from; }, [&](std::size_t i, bool& found) {
+    if (!found && pred(i)) found = true;
+  });
+}
+
+}  // namespace consph
