@@ -4,6 +4,7 @@
 
 #include "Boundary/MassProperties.h"
 #include "Utilities/Error.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -26,8 +27,7 @@ std::vector<Vector3r> sampleMeshVolume(const TriangleMesh& mesh, BlockLattice la
       for (long k = 0; k < n[2]; ++k)
         candidates.push_back(lo + Vector3r(Real(step * (double(i) + 0.5)), Real(step * (double(j) + 0.5)), Real(step * (double(k) + 0.5))));
   std::vector<char> inside(candidates.size(), 0);
-#pragma omp parallel for schedule(dynamic, 256)
-  for (std::ptrdiff_t c = 0; c < std::ptrdiff_t(candidates.size()); ++c) inside[c] = windingNumber(mesh, candidates[c]) > Real(0.5);
+  parallelForDynamic(candidates.size(), [&](std::size_t c) { inside[c] = windingNumber(mesh, candidates[c]) > Real(0.5); });
   std::vector<Vector3r> points;
   for (std::size_t c = 0; c < candidates.size(); ++c)
     if (inside[c]) points.push_back(candidates[c]);

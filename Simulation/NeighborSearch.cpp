@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "Utilities/Error.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -45,12 +46,11 @@ void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
   invCellSize_ = Real(1) / cellSize_;
   origin_ = lo;
   const std::size_t cells = std::size_t(dims_[0]) * dims_[1] * dims_[2];
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
+  parallelFor(n, [&](std::size_t i) {
     auto c = cellOf(points[i]);
     for (int a = 0; a < 3; ++a) c[a] = std::clamp(c[a], 0, dims_[a] - 1);  // rounding at the box's upper faces
     keys_[i] = Index((std::size_t(c[2]) * dims_[1] + c[1]) * dims_[0] + c[0]);
-  }
+  });
   // Counting sort by cell: O(n + cells), serial, a small fraction of the neighbour-list build.
   cellStart_.assign(cells + 1, 0);
   for (std::size_t i = 0; i < n; ++i) ++cellStart_[keys_[i] + 1];
@@ -76,6 +76,9 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
   out.scratchCandidateIds.resize(maxThreads);
   std::vector<std::size_t> chunkBegin(maxThreads + 1, n);
   const Real h2 = h * h;
+  // Raw OpenMP, not Utilities/ParallelFor.h: each thread fills its own buffers over its own chunk,
+  // and the buffers are then copied into the CSR arrays by thread (a GPU backend would count,
+  // prefix-sum and fill instead).
 #pragma omp parallel
   {
     // Static chunks in thread order: concatenating the per-thread buffers gives the CSR array.
@@ -175,13 +178,12 @@ std::vector<Index> zOrderPermutation(const Vector3r* points, std::size_t n, Real
   for (std::size_t i = 1; i < n; ++i) lo = lo.cwiseMin(points[i]);
   std::vector<std::pair<std::uint64_t, Index>> keyed(n);
   const Real inv = Real(1) / cellSize;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
+  parallelFor(n, [&](std::size_t i) {
     const Vector3r c = (points[i] - lo) * inv;
     std::uint64_t key = 0;
     for (int d = 0; d < 3; ++d) key |= spreadBits(std::uint64_t(std::max<Real>(c[d], 0))) << d;
     keyed[i] = {key, Index(i)};
-  }
+  });
   std::sort(keyed.begin(), keyed.end());
   for (std::size_t i = 0; i < n; ++i) order[i] = keyed[i].second;
   return order;

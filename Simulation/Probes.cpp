@@ -7,6 +7,7 @@
 #include <set>
 
 #include "Utilities/Error.h"
+#include "Utilities/ParallelFor.h"
 #include "Utilities/Text.h"
 
 namespace consph {
@@ -192,14 +193,15 @@ void Probes::measureLoads(const NeighborLists& lists, const std::vector<Vector3r
                           const BoundarySamples& samples, const std::vector<Vector3r>& impulses, Real dt) {
   if (!readsLoads_) return;
   // Accumulators: per probe, 6 slots (pressure probes use the first), summed over the pairs of
-  // every fluid particle in parallel (an OpenMP array reduction: no atomics).
+  // every fluid particle in parallel (one array per thread, joined after the loop: no atomics).
   const std::size_t np = probes_.size();
-  std::vector<double> sums(6 * np, 0.0);
-  double* acc = sums.data();
-  [[maybe_unused]] const std::size_t slots = sums.size();  // read by the OpenMP clause only
   const Real h = supportRadius_;
-#pragma omp parallel for schedule(static) reduction(+ : acc[:slots])
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(lists.queryCount()); ++i) {
+  auto join = [](std::vector<double>& into, const std::vector<double>& from) {
+    for (std::size_t s = 0; s < into.size(); ++s) into[s] += from[s];
+  };
+  const std::vector<double> zeros(6 * np, 0.0);
+  const std::vector<double> sums = parallelReduce(lists.queryCount(), zeros, join, [&](std::size_t i, std::vector<double>& threadSums) {
+    double* acc = threadSums.data();
     for (Index e = lists.begin(i); e < lists.end(i); ++e) {
       const Index k = lists.indices[e];
       const Index object = samples.bodies[k];
@@ -227,7 +229,7 @@ void Probes::measureLoads(const NeighborLists& lists, const std::vector<Vector3r
         }
       }
     }
-  }
+  });
   for (std::size_t p = 0; p < np; ++p) {
     const ProbeDescription& d = probes_[p];
     if (d.kind == ProbeKind::Force)

@@ -12,6 +12,7 @@
 #include "Simulation/SceneFile.h"
 #include "Utilities/LineFile.h"
 #include "Utilities/OutputFolder.h"
+#include "Utilities/ParallelFor.h"
 #include "Boundary/RigidBodyGuard.h"
 #include "Utilities/Timer.h"
 #include "Utilities/TriangleBvh.h"
@@ -266,12 +267,11 @@ void Simulation::dropParticlesInsideBodies() {
     o.mesh.boundingBox(lo, hi);
     // The hierarchy's winding number: O(log n) per particle instead of every triangle.
     const TriangleBvh surface = o.isBox ? TriangleBvh(TriangleMesh()) : TriangleBvh(o.mesh);
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+    parallelForDynamic(f.size(), [&](std::size_t i) {
       const Vector3r& x = f.positions[i];
-      if ((x - lo).minCoeff() < 0 || (hi - x).minCoeff() < 0) continue;
+      if ((x - lo).minCoeff() < 0 || (hi - x).minCoeff() < 0) return;
       if (o.isBox || surface.windingNumber(x) > Real(0.5)) inside[i] = 1;
-    }
+    });
   }
   std::vector<Index> keep;
   for (std::size_t i = 0; i < f.size(); ++i)
@@ -363,8 +363,7 @@ void Simulation::step() {
   ctx.dt = dt_;
   {
     FluidModel& f = *fluid_;
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) f.velocities[i] += dt_ * f.accelerations[i];
+    parallelFor(f.size(), [&](std::size_t i) { f.velocities[i] += dt_ * f.accelerations[i]; });
   }
   // Pressure solve: v* -> v(t + dt).
   {
@@ -453,9 +452,14 @@ void Simulation::computeDensities() {
   FluidModel& f = *fluid_;
   const BoundarySamples& b = boundaryModel_->samples();
   const Real rho0 = f.density0();
-  double errorSum = 0, errorMax = 0;
-#pragma omp parallel for schedule(static) reduction(+ : errorSum) reduction(max : errorMax)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+  struct DensityError {
+    double sum = 0, max = 0;
+  };
+  auto join = [](DensityError& into, const DensityError& from) {
+    into.sum += from.sum;
+    into.max = std::max(into.max, from.max);
+  };
+  const DensityError error = parallelReduce(f.size(), DensityError{}, join, [&](std::size_t i, DensityError& acc) {
     const Vector3r xi = f.positions[i];
     Real rho = f.masses[i] * kernel_.W0();
     for (Index e = fluidNeighbors_.begin(i); e < fluidNeighbors_.end(i); ++e) {
@@ -468,12 +472,12 @@ void Simulation::computeDensities() {
     }
     f.densities[i] = rho;
     const double err = std::max<double>(rho - rho0, 0) / rho0;  // compression only
-    errorSum += err;
-    errorMax = std::max(errorMax, err);
-  }
+    acc.sum += err;
+    acc.max = std::max(acc.max, err);
+  });
   // The density error of the state the last step produced (step 0 is the initial state).
   if (stats_.steps > 0 && f.size() > 0) {
-    const double avg = errorSum / double(f.size());
+    const double avg = error.sum / double(f.size());
     stats_.densityErrorSum += avg;
     stats_.densityErrorMax = std::max(stats_.densityErrorMax, avg);
     ++stats_.densityErrorSamples;
@@ -483,8 +487,7 @@ void Simulation::computeDensities() {
 void Simulation::computeNonPressureAccelerations(StepContext& ctx) {
   FluidModel& f = *fluid_;
   const Vector3r g = scene_.gravity;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) f.accelerations[i] = g;
+  parallelFor(f.size(), [&](std::size_t i) { f.accelerations[i] = g; });
   for (auto& force : forces_) force->addAccelerations(ctx);
 }
 
@@ -492,11 +495,9 @@ void Simulation::updateTimeStep() {
   // CFL: dt = cflFactor 0.4 (2r) / max |v + dt a|, clamped to [minTimeStep, timeStepCap_]
   // (maxTimeStep when given, else chooseTimeStepCap's bound).
   FluidModel& f = *fluid_;
-  Real maxSpeed2 = 0;
   const Real dtOld = dt_;
-#pragma omp parallel for schedule(static) reduction(max : maxSpeed2)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i)
-    maxSpeed2 = std::max(maxSpeed2, (f.velocities[i] + dtOld * f.accelerations[i]).squaredNorm());
+  const Real maxSpeed2 =
+      parallelMax(f.size(), Real(0), [&](std::size_t i) { return (f.velocities[i] + dtOld * f.accelerations[i]).squaredNorm(); });
   Real dt = timeStepCap_;
   if (maxSpeed2 > 0) dt = cflTimeStep(scene_.cflFactor, std::sqrt(maxSpeed2));
   dt_ = std::clamp(dt, scene_.minTimeStep, timeStepCap_);
@@ -504,8 +505,7 @@ void Simulation::updateTimeStep() {
 
 void Simulation::integrate() {
   FluidModel& f = *fluid_;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) f.positions[i] += dt_ * f.velocities[i];
+  parallelFor(f.size(), [&](std::size_t i) { f.positions[i] += dt_ * f.velocities[i]; });
 }
 
 void Simulation::checkState() {
@@ -514,13 +514,19 @@ void Simulation::checkState() {
   if (bodyGuard_) bodyGuard_->check(bodies_->bodies(), stats_.steps, time_);
   FluidModel& f = *fluid_;
   const std::ptrdiff_t n = std::ptrdiff_t(f.size());
-  std::ptrdiff_t firstBad = n, firstOut = n;
-#pragma omp parallel for schedule(static) reduction(min : firstBad, firstOut)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  // The first particle that is non-finite, and the first outside the domain (n: none).
+  using FirstBadOut = std::pair<std::ptrdiff_t, std::ptrdiff_t>;
+  auto join = [](FirstBadOut& into, const FirstBadOut& from) {
+    into.first = std::min(into.first, from.first);
+    into.second = std::min(into.second, from.second);
+  };
+  const auto [firstBad, firstOut] = parallelReduce(std::size_t(n), FirstBadOut{n, n}, join, [&](std::size_t i, FirstBadOut& first) {
     const Vector3r& x = f.positions[i];
-    if (!x.allFinite() || !f.velocities[i].allFinite() || !std::isfinite(f.pressures[i])) firstBad = std::min(firstBad, i);
-    else if (hasDomain_ && ((x - domainMin_).minCoeff() < 0 || (domainMax_ - x).minCoeff() < 0)) firstOut = std::min(firstOut, i);
-  }
+    if (!x.allFinite() || !f.velocities[i].allFinite() || !std::isfinite(f.pressures[i]))
+      first.first = std::min(first.first, std::ptrdiff_t(i));
+    else if (hasDomain_ && ((x - domainMin_).minCoeff() < 0 || (domainMax_ - x).minCoeff() < 0))
+      first.second = std::min(first.second, std::ptrdiff_t(i));
+  });
   auto where = [&](std::ptrdiff_t i) {
     std::ostringstream s;
     s << "step " << stats_.steps << ", t = " << time_ << " s: particle " << i << " (id " << f.ids[i] << ")";
@@ -682,8 +688,7 @@ void Simulation::computeAveragedPressure() {
   std::vector<Real>& out = *averagedPressure_;
   fluidGrid_.build(f.positions.data(), f.size(), kernel_.supportRadius());
   buildNeighborLists(fluidGrid_, f.positions.data(), f.size(), kernel_, true, fluidNeighbors_);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+  parallelFor(f.size(), [&](std::size_t i) {
     const Vector3r xi = f.positions[i];
     const Real selfWeight = f.masses[i] / f.densities[i] * kernel_.W0();
     Real weight = selfWeight, sum = selfWeight * f.pressures[i];
@@ -694,7 +699,7 @@ void Simulation::computeAveragedPressure() {
       sum += w * f.pressures[j];
     }
     out[i] = sum / weight;
-  }
+  });
 }
 
 void Simulation::exportFrame(const std::string& path) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "Utilities/ParallelFor.h"
 #include "Utilities/Types.h"
 
 namespace consph {
@@ -24,10 +25,7 @@ struct ConjugateGradientWorkspace {
 
 namespace cg_detail {
 inline Real dot(const std::vector<Vector3r>& a, const std::vector<Vector3r>& b) {
-  Real s = 0;
-#pragma omp parallel for schedule(static) reduction(+ : s)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(a.size()); ++i) s += a[i].dot(b[i]);
-  return s;
+  return parallelSum<Real>(a.size(), [&](std::size_t i) { return a[i].dot(b[i]); });
 }
 }  // namespace cg_detail
 
@@ -37,7 +35,7 @@ ConjugateGradientResult solveConjugateGradient(ApplyA&& applyA, ApplyP&& applyPr
                                                const std::vector<Vector3r>& b, std::vector<Vector3r>& x,
                                                Real tolerance, int maxIterations, ConjugateGradientWorkspace& ws) {
   using cg_detail::dot;
-  const std::ptrdiff_t n = std::ptrdiff_t(b.size());
+  const std::size_t n = b.size();
   ws.r.resize(b.size());
   ws.z.resize(b.size());
   ws.p.resize(b.size());
@@ -45,8 +43,7 @@ ConjugateGradientResult solveConjugateGradient(ApplyA&& applyA, ApplyP&& applyPr
   ConjugateGradientResult result;
   const Real threshold2 = tolerance * tolerance;
   applyA(x, ws.ap);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) ws.r[i] = b[i] - ws.ap[i];
+  parallelFor(n, [&](std::size_t i) { ws.r[i] = b[i] - ws.ap[i]; });
   Real r2 = dot(ws.r, ws.r);
   if (r2 <= threshold2) {
     result.residual = std::sqrt(r2);
@@ -59,11 +56,10 @@ ConjugateGradientResult solveConjugateGradient(ApplyA&& applyA, ApplyP&& applyPr
   while (result.iterations < maxIterations) {
     applyA(ws.p, ws.ap);
     const Real alpha = rz / dot(ws.p, ws.ap);
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
+    parallelFor(n, [&](std::size_t i) {
       x[i] += alpha * ws.p[i];
       ws.r[i] -= alpha * ws.ap[i];
-    }
+    });
     ++result.iterations;
     r2 = dot(ws.r, ws.r);
     if (r2 <= threshold2) break;
@@ -71,8 +67,7 @@ ConjugateGradientResult solveConjugateGradient(ApplyA&& applyA, ApplyP&& applyPr
     const Real rzNew = dot(ws.r, ws.z);
     const Real beta = rzNew / rz;
     rz = rzNew;
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < n; ++i) ws.p[i] = ws.z[i] + beta * ws.p[i];
+    parallelFor(n, [&](std::size_t i) { ws.p[i] = ws.z[i] + beta * ws.p[i]; });
   }
   result.residual = std::sqrt(r2);
   result.converged = r2 <= threshold2;
