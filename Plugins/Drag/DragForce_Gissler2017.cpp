@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -42,11 +43,10 @@ void DragForce_Gissler2017::addAccelerations(StepContext& ctx) {
   const auto& fn = ctx.fluidNeighbors;
   const auto& bn = ctx.boundaryNeighbors;
   const Real pi = std::numbers::pi_v<Real>;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+  parallelFor(f.size(), [&](std::size_t i) {
     const Vector3r vRel = airVelocity_ - f.velocities[i];
     const Real speed = vRel.norm();
-    if (speed <= Real(1e-6)) continue;
+    if (speed <= Real(1e-6)) return;
     const Vector3r dir = vRel / speed;
     const Real yMax = std::min(yCoefficient_ * speed * speed, Real(1));  // Eq. (8)
     const Real re = 2 * std::max(airDensity * speed * L_ / airViscosity, Real(0.1));
@@ -68,7 +68,7 @@ void DragForce_Gissler2017::addAccelerations(StepContext& ctx) {
     }
     const Real area = std::clamp(1 - maxAlignment, Real(0), Real(1)) * areaUnoccluded;  // Eq. (14)
     f.accelerations[i] += (drag_ * Real(0.5) * airDensity / f.masses[i] * speed * cDrag * area) * vRel;
-  }
+  });
 }
 
 }  // namespace consph

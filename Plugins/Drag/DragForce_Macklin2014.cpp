@@ -1,6 +1,7 @@
 #include "Plugins/Drag/DragForce_Macklin2014.h"
 
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -22,11 +23,10 @@ DragForce_Macklin2014::DragForce_Macklin2014(const Params& p) : drag_(p.real("dr
 void DragForce_Macklin2014::addAccelerations(StepContext& ctx) {
   FluidModel& f = ctx.fluid;
   const Real invRho0 = Real(1) / f.density0();
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+  parallelFor(f.size(), [&](std::size_t i) {
     const Real missing = std::max(1 - f.densities[i] * invRho0, Real(0));
     f.accelerations[i] -= (drag_ / f.masses[i] * missing) * (f.velocities[i] - airVelocity_);
-  }
+  });
 }
 
 }  // namespace consph

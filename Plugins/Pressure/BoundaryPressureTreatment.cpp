@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "Utilities/ParallelFor.h"
+
 namespace consph {
 
 void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
@@ -13,11 +15,10 @@ void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
   const BoundarySamples& b = ctx.boundary;
   const NeighborLists& bn = ctx.boundaryNeighbors;
   invRho0Squared_ = Real(1) / (f.density0() * f.density0());
-  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  const std::size_t n = f.size();
   gradientSum_.resize(n);
   if (classicalDiagonal_) diagonalTerm_.resize(n);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  parallelFor(n, [&](std::size_t i) {
     Vector3r g = Vector3r::Zero();
     Real squares = 0;
     for (Index e = bn.begin(i); e < bn.end(i); ++e) {
@@ -27,7 +28,7 @@ void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
     }
     gradientSum_[i] = g;
     if (classicalDiagonal_) diagonalTerm_[i] = f.masses[i] * squares;  // Eq. (15)
-  }
+  });
   if (extrapolates()) computeMlsCoefficients(ctx);
 }
 
@@ -48,11 +49,17 @@ void BoundaryPressureTreatment::computeMlsCoefficients(const StepContext& ctx) {
   mlsCoefficients_.resize(t.pairCount());
   pk_.assign(b.size(), Real(0));
   pkChange_.assign(b.size(), Real(0));
-  const std::ptrdiff_t nk = std::ptrdiff_t(b.size());
-  std::size_t fallbacks = 0, limited = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : fallbacks, limited)
-  for (std::ptrdiff_t k = 0; k < nk; ++k) {
-    if (t.count(k) == 0) continue;
+  // Dynamic: samples without fluid neighbours cost nothing. The counts are integers, exact in
+  // any grouping.
+  struct Counts {
+    std::size_t fallbacks = 0, limited = 0;
+  };
+  auto join = [](Counts& into, const Counts& from) {
+    into.fallbacks += from.fallbacks;
+    into.limited += from.limited;
+  };
+  const Counts counts = parallelReduceDynamic(b.size(), Counts{}, join, [&](std::size_t k, Counts& count) {
+    if (t.count(k) == 0) return;
     const Vector3r xk = b.positions[k];
     Real sumW = 0;
     Vector3r xBar = Vector3r::Zero();
@@ -65,8 +72,8 @@ void BoundaryPressureTreatment::computeMlsCoefficients(const StepContext& ctx) {
     }
     if (sumW <= Real(0)) {  // every neighbour exactly on the support sphere
       for (Index e = t.begin(k); e < t.end(k); ++e) mlsCoefficients_[e] = Real(1) / Real(t.count(k));
-      ++fallbacks;
-      continue;
+      ++count.fallbacks;
+      return;
     }
     const Real invSumW = Real(1) / sumW;
     xBar *= invSumW;
@@ -90,16 +97,16 @@ void BoundaryPressureTreatment::computeMlsCoefficients(const StepContext& ctx) {
         amplification = std::max(amplification, std::abs((f.positions[t.indices[e]] - xBar).dot(slope)));
       if (amplification > kMaxSlopeAmplification) {
         slope *= kMaxSlopeAmplification / amplification;
-        ++limited;
+        ++count.limited;
       }
     } else {
-      ++fallbacks;
+      ++count.fallbacks;
     }
     for (Index e = t.begin(k); e < t.end(k); ++e)
       mlsCoefficients_[e] *= invSumW * (Real(1) + (f.positions[t.indices[e]] - xBar).dot(slope));
-  }
-  fallbacks_ = fallbacks;
-  limitedSlopes_ = limited;
+  });
+  fallbacks_ = counts.fallbacks;
+  limitedSlopes_ = counts.limited;
 }
 
 void BoundaryPressureTreatment::computeExtrapolationCoupling(const StepContext& ctx) {
@@ -108,10 +115,9 @@ void BoundaryPressureTreatment::computeExtrapolationCoupling(const StepContext& 
   const BoundarySamples& b = ctx.boundary;
   const NeighborLists& bn = ctx.boundaryNeighbors;
   const NeighborLists& t = boundaryToFluid_;
-  const std::ptrdiff_t n = std::ptrdiff_t(ctx.fluid.size());
+  const std::size_t n = ctx.fluid.size();
   extrapolationGradient_.resize(n);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  parallelFor(n, [&](std::size_t i) {
     Vector3r h = Vector3r::Zero();
     for (Index e = bn.begin(i); e < bn.end(i); ++e) {
       const Index k = bn.indices[e];
@@ -120,7 +126,7 @@ void BoundaryPressureTreatment::computeExtrapolationCoupling(const StepContext& 
       h += (b.masses[k] * mlsCoefficients_[std::size_t(slot - t.indices.begin())]) * bn.gradW[e];
     }
     extrapolationGradient_[i] = h;
-  }
+  });
 }
 
 void BoundaryPressureTreatment::resetBoundaryPressures() {
@@ -134,13 +140,13 @@ void BoundaryPressureTreatment::reactionImpulses(const StepContext& ctx, Real dt
   const FluidModel& f = ctx.fluid;
   const auto& bn = ctx.boundaryNeighbors;
   impulsePerPair.resize(bn.pairCount());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i)
+  parallelFor(f.size(), [&](std::size_t i) {
     for (Index e = bn.begin(i); e < bn.end(i); ++e) {
       const Index k = bn.indices[e];
       const Real c = dt * f.masses[i] * ctx.boundary.masses[k] * pairFactor(k, beta[i], pressure[i], pk_);
       impulsePerPair[e] = c * bn.gradW[e];
     }
+  });
 }
 
 }  // namespace consph

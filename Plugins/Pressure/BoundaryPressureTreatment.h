@@ -24,13 +24,14 @@
 // p_i really contains a boundary term of the size of Eq. (15)'s sum_k m_i m~_k |grad W_ik|^2; the
 // consistent diagonal (Eq. 32) would ignore it and over-relax the Jacobi iteration at walls.
 //
-// The solvers call the inline members below inside their OpenMP loops: no virtual call and no
+// The solvers call the inline members below inside their parallel loops: no virtual call and no
 // branch per neighbour (one switch per particle).
 #pragma once
 #include <algorithm>
 #include <vector>
 
 #include "Simulation/StepContext.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -103,15 +104,14 @@ class BoundaryPressureTreatment {
   template <class PressureOf>
   void extrapolate(PressureOf&& pressureOf) {
     const NeighborLists& t = boundaryToFluid_;
-    const std::ptrdiff_t nk = std::ptrdiff_t(pk_.size());
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t k = 0; k < nk; ++k) {
+    const std::size_t nk = pk_.size();
+    parallelFor(nk, [&](std::size_t k) {
       Real p = 0;
       for (Index e = t.begin(k); e < t.end(k); ++e) p += mlsCoefficients_[e] * pressureOf(t.indices[e]);
       p = std::max(p, Real(0));
       pkChange_[k] = p - pk_[k];
       pk_[k] = p;
-    }
+    });
   }
   // Sets p_k = 0 (the start of a solve that applies its pressure as increments).
   void resetBoundaryPressures();

@@ -2,6 +2,7 @@
 
 #include "Plugins/Pressure/SphPressureTerms.h"
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -65,14 +66,13 @@ void DFSPH::computeDiagonal(StepContext& ctx) {
   const std::size_t n = ctx.fluid.size();
   invDiagonal_.resize(n);
   increment_.resize(n);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
+  parallelFor(n, [&](std::size_t i) {
     Vector3r sumGrad = treatment_.boundaryGradient(i);
     Real sumSquares = treatment_.diagonalTerm(i);
     fluidDiagonalSums(ctx, i, sumGrad, sumSquares);
     const Real d = sumGrad.squaredNorm() + sumSquares;
     invDiagonal_[i] = d > Real(1e-9) ? Real(1) / d : Real(0);
-  }
+  });
 }
 
 Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
@@ -90,9 +90,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
                                              Real(0.01) * rho0)
                                   : std::numeric_limits<Real>::infinity();
   const Real relaxationTime = settings_.relaxOverResolutionStep ? ctx.densityRelaxationTime : Real(0);
-  double errorSum = 0;
-#pragma omp parallel for schedule(static) reduction(+ : errorSum)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
+  const double errorSum = parallelSum<double>(n, [&](std::size_t i) {
     const Real drho = densityRate(ctx, i);
     Real s;
     if (divergence) {
@@ -100,15 +98,15 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
       s = std::max(drho, Real(0));
       if (fn.count(i) + bn.count(i) < kMinNeighborsForDivergence) s = 0;
       increment_[i] = s * invDiagonal_[i] / dt;
-      errorSum += s * dt / rho0;
+      return s * dt / rho0;
     } else {
       // rho*_i - target with rho*_i = rho_i + dt D rho_i / Dt (Eq. 6), compression only.
       const Real target = driftTarget(f.densities[i], rho0, dt, relaxationTime, maxDensityDrop);
       s = std::max(f.densities[i] + dt * drho - target, Real(0));
       increment_[i] = s * invDiagonal_[i] / (dt * dt);
-      errorSum += s / rho0;
+      return s / rho0;
     }
-  }
+  });
   return n ? Real(errorSum / double(n)) : Real(0);
 }
 
@@ -120,14 +118,13 @@ void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k,
   if (treatment_.extrapolates())
     treatment_.extrapolate([&](Index j) { return ((accumulated ? (*accumulated)[j] : Real(0)) + k[j]) * f.densities[j] * f.densities[j]; });
   const std::vector<Real>& pkChange = treatment_.boundaryPressureChanges();
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+  parallelFor(f.size(), [&](std::size_t i) {
     const Real ki = k[i];
     Vector3r dv = fluidPressureAcceleration(ctx, i, k);  // Eq. (9) / (24)
     // Boundary: Eq. (33) (consistent) or Eq. (16) (mirroring, extrapolation).
     dv += treatment_.acceleration(ctx, i, ki, ki * f.densities[i] * f.densities[i], pkChange);
     f.velocities[i] += dt * dv;
-  }
+  });
 }
 
 void DFSPH::warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale) {
@@ -140,8 +137,7 @@ void DFSPH::warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale) {
   // Half of last step's pressure: the sources count compression only, so an overshoot could
   // not be undone by the iterations.
   const Real scale = Real(0.5) * dtScale;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) beta[i] *= scale;
+  parallelFor(n, [&](std::size_t i) { beta[i] *= scale; });
   applyPressureIncrement(ctx, beta, nullptr);
 }
 
@@ -160,8 +156,7 @@ void DFSPH::beforeNonPressureForces(StepContext& ctx) {
   int it = 0;
   while ((error > settings_.maxErrorDivergence || it < 1) && it < settings_.maxIterationsDivergence) {
     applyPressureIncrement(ctx, increment_, &divergenceBeta_);
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) divergenceBeta_[i] += increment_[i];
+    parallelFor(n, [&](std::size_t i) { divergenceBeta_[i] += increment_[i]; });
     letBodiesRespond(ctx, false);
     error = computeSources(ctx, true);
     ++it;
@@ -183,8 +178,7 @@ void DFSPH::solve(StepContext& ctx) {
   int it = 0;
   while ((error > settings_.maxError || it < settings_.minIterations) && it < settings_.maxIterations) {
     applyPressureIncrement(ctx, increment_, &densityBeta_);
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) densityBeta_[i] += increment_[i];
+    parallelFor(n, [&](std::size_t i) { densityBeta_[i] += increment_[i]; });
     letBodiesRespond(ctx, true);
     error = computeSources(ctx, false);
     ++it;
@@ -197,9 +191,9 @@ void DFSPH::solve(StepContext& ctx) {
   // divergence solve's beta (applied over its dt) converted to this step's dt. In a resting
   // column the divergence solve carries a share of the weight, so leaving it out reads low.
   const Real divergenceScale = divergenceDt_ / ctx.dt;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i)
+  parallelFor(n, [&](std::size_t i) {
     f.pressures[i] = (densityBeta_[i] + divergenceScale * divergenceBeta_[i]) * f.densities[i] * f.densities[i];
+  });
 }
 
 void DFSPH::boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const {
@@ -230,9 +224,9 @@ void DFSPH::letBodiesRespond(StepContext& ctx, bool densitySolve) {
   const std::vector<Real>& divergenceP =
       densitySolve && treatment_.extrapolates() && divergenceDt_ > 0 ? divergenceBoundaryP_ : treatment_.boundaryPressures();
   trialImpulses_.resize(pairs.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t p = 0; p < std::ptrdiff_t(pairs.size()); ++p)
+  parallelFor(pairs.size(), [&](std::size_t p) {
     trialImpulses_[p] = pairImpulse(ctx, pairs[p].fluid, pairs[p].pair, divergenceDt, divergenceP, densitySolve);
+  });
   ctx.bodies->respond(f.positions, trialImpulses_, densitySolve ? ctx.gravity : Vector3r::Zero(), ctx.dt, ctx.boundary);
 }
 
@@ -245,10 +239,9 @@ void DFSPH::pairImpulses(const StepContext& ctx, Real divergenceDt, const std::v
   // m_i m~_k (dt_div b_ik(divergence totals) + dt b_ik(density totals)) grad W_ik.
   const auto& bn = ctx.boundaryNeighbors;
   impulsePerPair.resize(bn.pairCount());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(ctx.fluid.size()); ++i)
-    for (Index e = bn.begin(i); e < bn.end(i); ++e)
-      impulsePerPair[e] = pairImpulse(ctx, Index(i), e, divergenceDt, divergenceP, withDensity);
+  parallelFor(ctx.fluid.size(), [&](std::size_t i) {
+    for (Index e = bn.begin(i); e < bn.end(i); ++e) impulsePerPair[e] = pairImpulse(ctx, Index(i), e, divergenceDt, divergenceP, withDensity);
+  });
 }
 
 }  // namespace consph

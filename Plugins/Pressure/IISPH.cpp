@@ -2,6 +2,7 @@
 
 #include "Plugins/Pressure/SphPressureTerms.h"
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -42,13 +43,12 @@ void IISPH::prepare(StepContext& ctx) {
   const Real rho0 = f.density0(), dt = ctx.dt, omega = settings_.omega;
   const Real start = settings_.warmStart ? Real(0.5) : Real(0);
   const Real relaxationTime = settings_.relaxOverResolutionStep ? ctx.densityRelaxationTime : Real(0);
-  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  const std::size_t n = f.size();
   source_.resize(n);
   omegaOverA_.resize(n);
   beta_.resize(n);
   pressureAcc_.resize(n);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  parallelFor(n, [&](std::size_t i) {
     const Real rhoI = f.densities[i];
     // s_i = (target - rho*_i) / dt, rho*_i = rho_i + dt D rho_i / Dt (Eqs. 5, 6); target = rho0
     // unless the step starts over rho0 (driftTarget).
@@ -63,26 +63,24 @@ void IISPH::prepare(StepContext& ctx) {
     omegaOverA_[i] = d > Real(1e-9) ? -omega * rhoI * rhoI / (dt * d) : Real(0);
     f.pressures[i] = omegaOverA_[i] != 0 ? start * f.pressures[i] : Real(0);
     beta_[i] = f.pressures[i] / (rhoI * rhoI);
-  }
+  });
 }
 
 void IISPH::computeAccelerations(StepContext& ctx) {
   FluidModel& f = ctx.fluid;
   if (treatment_.extrapolates()) treatment_.extrapolate([&](Index j) { return f.pressures[j]; });
   const std::vector<Real>& pk = treatment_.boundaryPressures();
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i)
+  parallelFor(f.size(), [&](std::size_t i) {
     pressureAcc_[i] = fluidPressureAcceleration(ctx, i, beta_) + treatment_.acceleration(ctx, i, beta_[i], f.pressures[i], pk);
+  });
 }
 
 Real IISPH::jacobiSweep(StepContext& ctx) {
   FluidModel& f = ctx.fluid;
   const NeighborLists& fn = ctx.fluidNeighbors;
   const Real rho0 = f.density0(), dt = ctx.dt;
-  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
-  double errorSum = 0;
-#pragma omp parallel for schedule(static) reduction(+ : errorSum)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  const std::size_t n = f.size();
+  const double errorSum = parallelSum<double>(n, [&](std::size_t i) {
     // (A p)_i = dt (sum_j m_j (a_i - a_j) . grad W_ij + sum_k m~_k (a_i - a_k) . grad W_ik) with
     // a_k = 0 (Eqs. 10, 17, 34): the boundary sum is a_i . g_i.
     const Vector3r ai = pressureAcc_[i];
@@ -90,12 +88,13 @@ Real IISPH::jacobiSweep(StepContext& ctx) {
     for (Index e = fn.begin(i); e < fn.end(i); ++e) laplacian += f.masses[fn.indices[e]] * (ai - pressureAcc_[fn.indices[e]]).dot(fn.gradW[e]);
     const Real residual = source_[i] - dt * laplacian;
     // rho**_i - rho0 = -dt residual_i: the compression these pressures leave.
-    errorSum += std::max(-dt * residual, Real(0)) / rho0;
+    const Real compression = std::max(-dt * residual, Real(0)) / rho0;
     // Eq. (11), clamped: negative pressures would pull the free surface together.
     const Real p = std::max(f.pressures[i] + omegaOverA_[i] * residual, Real(0));
     f.pressures[i] = p;
     beta_[i] = p / (f.densities[i] * f.densities[i]);
-  }
+    return compression;
+  });
   return n ? Real(errorSum / double(n)) : Real(0);
 }
 
@@ -116,8 +115,7 @@ void IISPH::solve(StepContext& ctx) {
   computeAccelerations(ctx);
   FluidModel& f = ctx.fluid;
   const Real dt = ctx.dt;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) f.velocities[i] += dt * pressureAcc_[i];
+  parallelFor(f.size(), [&](std::size_t i) { f.velocities[i] += dt * pressureAcc_[i]; });
 }
 
 void IISPH::boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const {

@@ -4,6 +4,7 @@
 
 #include "Plugins/Pressure/SphPressureTerms.h"
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -26,26 +27,23 @@ void WCSPH::solve(StepContext& ctx) {
   stats_ = PressureSolverStats();
   FluidModel& f = ctx.fluid;
   const Real rho0 = f.density0(), dt = ctx.dt;
-  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  const std::size_t n = f.size();
   beta_.resize(f.size());
-  double errorSum = 0;
-#pragma omp parallel for schedule(static) reduction(+ : errorSum)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  const double errorSum = parallelSum<double>(n, [&](std::size_t i) {
     const Real ratio = f.densities[i] / rho0;
     f.pressures[i] = std::max(Real(0), stiffness_ * (std::pow(ratio, exponent_) - Real(1)));
     beta_[i] = f.pressures[i] / (f.densities[i] * f.densities[i]);
-    errorSum += std::max(ratio - Real(1), Real(0));
-  }
+    return std::max(ratio - Real(1), Real(0));
+  });
   // Boundary pressures (extrapolation fits them to the fresh p_j).
   treatment_.beginStep(ctx);
   if (treatment_.extrapolates()) treatment_.extrapolate([&](Index j) { return f.pressures[j]; });
   const std::vector<Real>& pk = treatment_.boundaryPressures();
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  parallelFor(n, [&](std::size_t i) {
     // Eq. (9), boundary: Eq. (33) (consistent) or Eq. (16) (mirroring, extrapolation).
     const Vector3r a = fluidPressureAcceleration(ctx, i, beta_) + treatment_.acceleration(ctx, i, beta_[i], f.pressures[i], pk);
     f.velocities[i] += dt * a;
-  }
+  });
   stats_.densityError = n ? Real(errorSum / double(n)) : Real(0);
 }
 

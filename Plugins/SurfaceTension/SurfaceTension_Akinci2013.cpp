@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -50,22 +51,20 @@ void SurfaceTension_Akinci2013::addAccelerations(StepContext& ctx) {
   const BoundarySamples& b = ctx.boundary;
   const auto& fn = ctx.fluidNeighbors;
   const auto& bn = ctx.boundaryNeighbors;
-  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  const std::size_t n = f.size();
   const Real h = ctx.kernel.supportRadius(), rho0 = f.density0();
   const Kernels kernels(h);
   // Eq. (5): surface normals (zero inside the fluid, length ~1 at the surface).
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  parallelFor(n, [&](std::size_t i) {
     Vector3r ni = Vector3r::Zero();
     for (Index e = fn.begin(i); e < fn.end(i); ++e) {
       const Index j = fn.indices[e];
       ni += (f.masses[j] / f.densities[j]) * fn.gradW[e];
     }
     normals_[i] = h * ni;
-  }
+  });
   const bool adhesion = beta_ > 0;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  parallelFor(n, [&](std::size_t i) {
     const Vector3r xi = f.positions[i], ni = normals_[i];
     const Real rhoi = f.densities[i];
     Vector3r a = Vector3r::Zero();
@@ -85,7 +84,7 @@ void SurfaceTension_Akinci2013::addAccelerations(StepContext& ctx) {
         if (r > 0) a -= (beta_ * b.masses[k] * kernels.adhesion(r) / r) * xik;  // Eq. (6)
       }
     f.accelerations[i] += a;
-  }
+  });
 }
 
 }  // namespace consph

@@ -5,6 +5,7 @@
 
 #include "Plugins/Viscosity/ViscosityLaplacian.h"
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -39,8 +40,7 @@ void Viscosity_Standard::addAccelerations(StepContext& ctx) {
   FluidModel& f = ctx.fluid;
   const Real eps = regularisation(ctx.kernel), rho0 = f.density0();
   const bool boundary = boundaryViscosity_ > 0;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+  parallelFor(f.size(), [&](std::size_t i) {
     const Real rhoi = f.densities[i];
     // ViscosityLaplacian.h: fluid and boundary terms.
     Vector3r a = (kLaplacianFactor * viscosity_ * rho0 / rhoi) * fluidSum(f, ctx.fluidNeighbors, i, f.velocities.data(), eps);
@@ -48,7 +48,7 @@ void Viscosity_Standard::addAccelerations(StepContext& ctx) {
       a += (kLaplacianFactor * boundaryViscosity_ / rhoi) *
            boundarySum(ctx.boundary, ctx.boundaryNeighbors, i, f.positions[i], f.velocities[i], eps, true);
     f.accelerations[i] += a;
-  }
+  });
 }
 
 }  // namespace consph

@@ -4,6 +4,7 @@
 
 #include "Plugins/Viscosity/ViscosityLaplacian.h"
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -35,7 +36,7 @@ void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
   const BoundarySamples& b = ctx.boundary;
   const auto& fn = ctx.fluidNeighbors;
   const auto& bn = ctx.boundaryNeighbors;
-  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  const std::size_t n = f.size();
   const Real dt = ctx.dt;  // the previous step's dt: see the header
   const Real eps = regularisation(ctx.kernel), rho0 = f.density0();
   const Real cFluid = dt * kLaplacianFactor * viscosity_ * rho0, cBoundary = dt * kLaplacianFactor * boundaryViscosity_;
@@ -46,8 +47,7 @@ void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
 
   // Right-hand side m_i (v_i - dt nu_b / rho_i sum_k m~_k K_ik v_k), warm start, and the 3x3
   // diagonal blocks m_i (I - dt L_ii) of the preconditioner (K_ij u = (u . x_ij) grad W_ij / (..)).
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  parallelFor(n, [&](std::size_t i) {
     const Vector3r xi = f.positions[i], vi = f.velocities[i];
     const Real rhoi = f.densities[i], mi = f.masses[i];
     Vector3r bi = vi;
@@ -71,30 +71,26 @@ void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
     rhs_[i] = mi * bi;
     inverseDiagonal_[i] = (mi * (Matrix3r::Identity() - d)).inverse();
     solution_[i] = vi + velocityChange_[i];
-  }
+  });
 
   // A x = m_i (x_i - dt nu (rho0 / rho_i) sum_j (m_j / rho_j) K_ij x_ij - dt nu_b / rho_i sum_k m~_k K_ik x_i).
   auto applyA = [&](const std::vector<Vector3r>& x, std::vector<Vector3r>& out) {
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
+    parallelFor(n, [&](std::size_t i) {
       const Real rhoi = f.densities[i];
       Vector3r lx = (cFluid / rhoi) * fluidSum(f, fn, i, x.data(), eps);
       if (boundary) lx += (cBoundary / rhoi) * boundarySum(b, bn, i, f.positions[i], x[i], eps, false);
       out[i] = f.masses[i] * (x[i] - lx);
-    }
+    });
   };
   auto applyPreconditioner = [&](const std::vector<Vector3r>& r, std::vector<Vector3r>& out) {
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < n; ++i) out[i] = inverseDiagonal_[i] * r[i];
+    parallelFor(n, [&](std::size_t i) { out[i] = inverseDiagonal_[i] * r[i]; });
   };
   // Tolerance relative to the viscous change itself, |b - A v| (the residual of "no viscosity"):
   // a tolerance relative to |b| ~ |m v| (Eigen's, SPlisHSPlasH's) accepts the warm start without
   // a single iteration whenever nu dt |L v| < maxError |v|, i.e. almost always at nu = 0.01.
   workspace_.ap.resize(f.size());
   applyA(f.velocities, workspace_.ap);
-  Real change2 = 0;
-#pragma omp parallel for schedule(static) reduction(+ : change2)
-  for (std::ptrdiff_t i = 0; i < n; ++i) change2 += (rhs_[i] - workspace_.ap[i]).squaredNorm();
+  const Real change2 = parallelSum<Real>(n, [&](std::size_t i) { return (rhs_[i] - workspace_.ap[i]).squaredNorm(); });
   const Real tolerance = maxError_ * std::sqrt(change2);
   if (change2 == Real(0)) {  // rest, rigid motion: v' = v exactly
     solution_ = f.velocities;
@@ -109,11 +105,10 @@ void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
 
   // a_i += (v'_i - v_i) / dt; keep v' - v for the next warm start.
   const Real invDt = Real(1) / dt;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  parallelFor(n, [&](std::size_t i) {
     velocityChange_[i] = solution_[i] - f.velocities[i];
     f.accelerations[i] += invDt * velocityChange_[i];
-  }
+  });
 }
 
 }  // namespace consph

@@ -1,6 +1,7 @@
 #include "Plugins/Viscosity/Viscosity_XSPH.h"
 
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -27,8 +28,7 @@ void Viscosity_XSPH::addAccelerations(StepContext& ctx) {
   // dt is the previous step's (forces run before the CFL step): the smoothing per step is eps.
   const Real invDt = Real(1) / ctx.dt;
   const bool boundary = boundaryFactor_ > 0;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) {
+  parallelFor(f.size(), [&](std::size_t i) {
     const Vector3r xi = f.positions[i], vi = f.velocities[i];
     const Real rhoi = f.densities[i];
     Vector3r s = Vector3r::Zero();
@@ -46,7 +46,7 @@ void Viscosity_XSPH::addAccelerations(StepContext& ctx) {
       a -= boundaryFactor_ * invDt * sb;
     }
     f.accelerations[i] += a;
-  }
+  });
 }
 
 }  // namespace consph

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>  // cross
 
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -27,12 +28,11 @@ VorticityConfinement_Macklin2013::VorticityConfinement_Macklin2013(const Params&
 void VorticityConfinement_Macklin2013::addAccelerations(StepContext& ctx) {
   FluidModel& f = ctx.fluid;
   const auto& fn = ctx.fluidNeighbors;
-  const std::ptrdiff_t n = std::ptrdiff_t(f.size());
+  const std::size_t n = f.size();
   omega_.resize(f.size());
   omegaNorm_.resize(f.size());
   // omega_i = curl v.
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  parallelFor(n, [&](std::size_t i) {
     const Vector3r vi = f.velocities[i];
     Vector3r w = Vector3r::Zero();
     for (Index e = fn.begin(i); e < fn.end(i); ++e) {
@@ -41,13 +41,12 @@ void VorticityConfinement_Macklin2013::addAccelerations(StepContext& ctx) {
     }
     omega_[i] = w / f.densities[i];
     omegaNorm_[i] = omega_[i].norm();
-  }
+  });
   // a_i += eps N_i x omega_i, N = grad |omega| / |grad |omega||.
   const Real h = ctx.kernel.supportRadius();
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  parallelFor(n, [&](std::size_t i) {
     const Real wi = omegaNorm_[i];
-    if (wi == Real(0)) continue;
+    if (wi == Real(0)) return;
     Vector3r eta = Vector3r::Zero();
     for (Index e = fn.begin(i); e < fn.end(i); ++e) {
       const Index j = fn.indices[e];
@@ -55,9 +54,9 @@ void VorticityConfinement_Macklin2013::addAccelerations(StepContext& ctx) {
     }
     eta /= f.densities[i];
     const Real etaNorm = eta.norm();
-    if (etaNorm * h <= kUniformVorticity * wi) continue;
+    if (etaNorm * h <= kUniformVorticity * wi) return;
     f.accelerations[i] += epsilon_ * (eta / etaNorm).cross(omega_[i]);
-  }
+  });
 }
 
 }  // namespace consph

@@ -1,6 +1,7 @@
 #include "docs/examples/LinearDrag.h"
 
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -25,8 +26,7 @@ LinearDrag::LinearDrag(const Params& p) : coefficient_(p.real("coefficient")), a
 void LinearDrag::addAccelerations(StepContext& ctx) {
   FluidModel& f = ctx.fluid;
   // One particle at a time, no neighbours: a plain parallel loop, each i written by one thread.
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(f.size()); ++i) f.accelerations[i] -= coefficient_ * (f.velocities[i] - airVelocity_);
+  parallelFor(f.size(), [&](std::size_t i) { f.accelerations[i] -= coefficient_ * (f.velocities[i] - airVelocity_); });
 }
 
 }  // namespace consph
