@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "Simulation/ResourceEstimate.h"
+#include "Utilities/ParallelFor.h"
 #include "Utilities/ProgressLog.h"
 #include "Utilities/TriangleBvh.h"
 
@@ -51,10 +52,9 @@ template <class Body>
 void parallelForWithProgress(std::size_t n, std::size_t doneBefore, ProgressLog& progress, const Body& body) {
   const std::size_t chunk = std::max<std::size_t>(16384, n / 64);
   for (std::size_t begin = 0; begin < n; begin += chunk) {
-    const std::ptrdiff_t end = std::ptrdiff_t(std::min(n, begin + chunk));
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::ptrdiff_t i = std::ptrdiff_t(begin); i < end; ++i) body(std::size_t(i));
-    progress.report(doneBefore + std::size_t(end));
+    const std::size_t end = std::min(n, begin + chunk);
+    parallelForDynamic(end - begin, [&](std::size_t i) { body(begin + i); });
+    progress.report(doneBefore + end);
   }
 }
 

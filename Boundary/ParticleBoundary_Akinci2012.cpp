@@ -9,6 +9,7 @@
 #include "Boundary/ObjectSampling.h"
 #include "Boundary/RestLayer.h"
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -105,11 +106,11 @@ bool ParticleBoundary_Akinci2012::fluidReaches(const std::vector<Vector3r>& surf
   if (surfacePoints.empty() || fluid.size() == 0) return false;
   PointGrid grid;
   grid.build(surfacePoints.data(), surfacePoints.size(), std::max(supportRadius, reach));
-  bool found = false;  // each thread's copy starts false (the identity of ||)
-#pragma omp parallel for schedule(static) reduction(|| : found)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(fluid.size()); ++i)
-    if (!found) grid.forEachNeighbor(fluid.positions[i], reach, [&](Index, const Vector3r&) { found = true; });
-  return found;
+  return parallelAny(fluid.size(), [&](std::size_t i) {
+    bool near = false;
+    grid.forEachNeighbor(fluid.positions[i], reach, [&](Index, const Vector3r&) { near = true; });
+    return near;
+  });
 }
 
 void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid,
@@ -147,13 +148,12 @@ void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& 
     // V_k = 1 / sum_l W_kl over this object's particles (self included).
     PointGrid grid;
     grid.build(samples_.positions.data() + base, points.size(), kernel.supportRadius());
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(points.size()); ++i) {
+    parallelFor(points.size(), [&](std::size_t i) {
       const Vector3r xi = samples_.positions[base + i];
       Real sum = 0;
       grid.forEachNeighbor(xi, kernel.supportRadius(), [&](Index, const Vector3r& xl) { sum += kernel.W(xi - xl); });
       samples_.masses[base + i] = density0 / sum;  // m~_k = rho0 V_k
-    }
+    });
   }
   if (!offsetNames.empty() && log_) {
     char line[160];

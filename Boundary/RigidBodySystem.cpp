@@ -11,6 +11,7 @@
 #include "Boundary/MassProperties.h"
 #include "Boundary/ObjectSampling.h"
 #include "Utilities/Error.h"
+#include "Utilities/ParallelFor.h"
 #include "Utilities/VtkWriter.h"
 
 namespace consph {
@@ -100,6 +101,8 @@ void RigidBodySystem::gatherFluidImpulses(const NeighborLists& lists, const std:
   const std::size_t nb = bodies_.size(), n = lists.queryCount();
   const int threads = omp_get_max_threads();
   perThread_.assign(std::size_t(threads) * nb * 2, Vector3r::Zero());
+  // Raw OpenMP, not parallelReduce: the per-thread sums live in a buffer kept between steps (no
+  // allocation per call), and are added to the running totals thread by thread, in this order.
 #pragma omp parallel
   {
     Vector3r* acc = perThread_.data() + std::size_t(omp_get_thread_num()) * nb * 2;
@@ -319,13 +322,11 @@ void RigidBodySystem::updateBoundary(BoundaryModel& model) const {
   for (const RigidBody& b : bodies_) {
     model.setPose(b.object, b.pose());
     const Matrix3r R = b.rotation();
-    const std::ptrdiff_t n = std::ptrdiff_t(b.samples.size());
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t s = 0; s < n; ++s) {
+    parallelFor(b.samples.size(), [&](std::size_t s) {
       const Index k = b.samples[s];
       samples.positions[k] = b.x + R * b.localSamples[s];
       samples.velocities[k] = b.velocityAt(samples.positions[k]);
-    }
+    });
   }
 }
 

@@ -61,6 +61,8 @@ std::vector<RigidContact::Contact> RigidContact::findContacts(const std::vector<
     const Index object = body.object;
     const bool withMoving = nearOtherBody(b);
     const std::ptrdiff_t n = std::ptrdiff_t(body.contactSamples.size());
+    // Raw OpenMP, not Utilities/ParallelFor.h: each thread appends to its own list across all
+    // bodies, and the lists are concatenated in thread order (the order the solver sees).
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t s = 0; s < n; ++s) {
       const Index k = body.contactSamples[s];

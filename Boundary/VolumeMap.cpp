@@ -10,6 +10,7 @@
 #include "Boundary/MeshSampling.h"
 #include "Boundary/RestLayer.h"
 #include "Simulation/ResourceEstimate.h"
+#include "Utilities/ParallelFor.h"
 #include "Utilities/TriangleBvh.h"
 
 namespace consph {
@@ -63,11 +64,12 @@ void VolumeMap::computeDistances(const BoundaryObject& object) {
   boxMax_ = object.boxMax;
   fluidSign_ = fluidSign;
   if (object.isBox) {
-#pragma omp parallel for schedule(static)
-    for (int k = 0; k < dims_[2]; ++k)
+    parallelFor(std::size_t(dims_[2]), [&](std::size_t zIndex) {
+      const int k = int(zIndex);
       for (int j = 0; j < dims_[1]; ++j)
         for (int i = 0; i < dims_[0]; ++i)
           phi_[node(i, j, k)] = fluidSign * boxDistance(position(i, j, k), object.boxMin, object.boxMax);
+    });
     return;
   }
   const TriangleMesh& mesh = object.mesh;
@@ -93,8 +95,8 @@ void VolumeMap::computeDistances(const BoundaryObject& object) {
     triLo[t] = mesh.vertices[tri[0]].cwiseMin(mesh.vertices[tri[1]]).cwiseMin(mesh.vertices[tri[2]]) - Vector3r::Constant(meshBand);
     triHi[t] = mesh.vertices[tri[0]].cwiseMax(mesh.vertices[tri[1]]).cwiseMax(mesh.vertices[tri[2]]) + Vector3r::Constant(meshBand);
   }
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int k = 0; k < dims_[2]; ++k) {
+  const auto eachSlice = [&](std::size_t zIndex) {
+    const int k = int(zIndex);
     const std::size_t slice = std::size_t(dims_[0]) * dims_[1];
     std::vector<Real> best(slice, meshBand);
     std::vector<Index> bestTriangle(slice, Index(-1));
@@ -134,7 +136,8 @@ void VolumeMap::computeDistances(const BoundaryObject& object) {
         }
         phi_[std::size_t(k) * slice + s] = (insideSurface ? -fluidSign : fluidSign) * best[s];
       }
-  }
+  };
+  parallelForDynamic(std::size_t(dims_[2]), eachSlice, 1);  // one z-slice at a time
 }
 
 void VolumeMap::computeVolumes(const CubicSplineKernel& kernel) {
@@ -162,8 +165,8 @@ void VolumeMap::computeVolumes(const CubicSplineKernel& kernel) {
   }
   const Real w0 = kernel.W0(), wholeBall = Real(0.8) * Real(4) / 3 * std::numbers::pi_v<Real> * h * h * h;
   volume_.assign(phi_.size(), Real(0));
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int k = 0; k < dims_[2]; ++k)
+  const auto eachSlice = [&](std::size_t zIndex) {
+    const int k = int(zIndex);
     for (int j = 0; j < dims_[1]; ++j)
       for (int i = 0; i < dims_[0]; ++i) {
         const std::size_t n = node(i, j, k);
@@ -180,6 +183,8 @@ void VolumeMap::computeVolumes(const CubicSplineKernel& kernel) {
         }
         volume_[n] = Real(0.8) * sum;
       }
+  };
+  parallelForDynamic(std::size_t(dims_[2]), eachSlice, 1);  // one z-slice at a time
 }
 
 Real VolumeMap::exactDistance(const Vector3r& x) const {

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/ParallelFor.h"
 #include "Utilities/Timer.h"
 
 namespace consph {
@@ -93,9 +94,7 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
     if (offsetObjects_ == "auto" && !always && offset > 0) {
       const VolumeMap& m = *map;
       const Real reach = Real(0.95) * fluidSpacing_;
-#pragma omp parallel for schedule(static) reduction(|| : touched)
-      for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(fluid.size()); ++i)
-        if (!touched && m.distance(fluid.positions[i]) < reach) touched = true;
+      touched = parallelAny(fluid.size(), [&](std::size_t i) { return m.distance(fluid.positions[i]) < reach; });
       if (touched) map = cache_.obtain(o, kernel, cellSize_, offset);
     }
     if (always || touched) {
@@ -164,21 +163,19 @@ void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const 
   out.offsets[0] = 0;
   // Two passes (count, then fill) give one CSR array without locks; the second evaluates the
   // maps again, which costs less than storing every candidate.
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
+  parallelFor(n, [&](std::size_t i) {
     Index count = 0;
     Vector3r xk, gk;
     Real mk;
     for (std::size_t o = 0; o < objects; ++o) count += virtualParticle(o, fluid.positions[i], kernel, xk, mk, gk);
     out.offsets[i + 1] = count;
-  }
+  });
   for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
   const std::size_t pairs = out.offsets[n];
   samples_.resize(pairs);
   out.indices.resize(pairs);
   out.gradW.resize(pairs);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
+  parallelFor(n, [&](std::size_t i) {
     Index e = out.offsets[i];
     const Vector3r xi = fluid.positions[i];
     for (std::size_t o = 0; o < objects; ++o) {
@@ -195,7 +192,7 @@ void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const 
       out.gradW[e] = gk;
       ++e;
     }
-  }
+  });
 }
 
 }  // namespace consph
