@@ -236,7 +236,8 @@ void RigidBodySystem::advance(Real dt, const Vector3r& gravity, const BoundarySa
       const Vector3r J = impulse_[i] + dt * b.mass * gravity;
       if (hingeOfBody_[i] != kNone) advanceHinged(b, hinges_[hingeOfBody_[i]].description, J, angularImpulse_[i], dt);
       else {
-        if (i < addedMass_.size() && addedMass_[i] > 0) {
+        // touching_ is sized by gatherFluidImpulses; without it no fluid is known to touch.
+        if (i < addedMass_.size() && addedMass_[i] > 0 && i < touching_.size()) {
           const BodyIncrement inc = shareWithTouchingFluid(b, J, angularImpulse_[i], dt, addedMass_[i], touching_[i], fluidPositions,
                                                            fluidMasses, fluidVelocities);
           b.v += inc.dv;
