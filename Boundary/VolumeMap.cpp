@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 
@@ -52,6 +53,7 @@ VolumeMap::VolumeMap(const BoundaryObject& object, const CubicSplineKernel& kern
   offset_ = std::min(offset_, std::max(Real(0), depth - cell_));
   for (Real& p : phi_)
     if (p != kFar) p += offset_;
+  buildBallRule();
   computeVolumes(kernel);
 }
 
@@ -140,18 +142,18 @@ void VolumeMap::computeDistances(const BoundaryObject& object) {
   parallelForDynamic(std::size_t(dims_[2]), eachSlice, 1);  // one z-slice at a time
 }
 
-void VolumeMap::computeVolumes(const CubicSplineKernel& kernel) {
+void VolumeMap::buildBallRule() {
   // Quadrature over the ball |xi| < h: 6 Gauss-Legendre radii (weight r^2) times 64 directions on
   // a Fibonacci sphere (equal weights 4 pi / 64). gamma is continuous (1 at Phi = 0 from both
   // sides), so a smooth rule converges (unit test: a half-space against a 1-D integral).
-  const Real h = kernel.supportRadius();
+  const Real h = h_;
   static const Real gaussX[6] = {-0.9324695142031521, -0.6612093864662645, -0.2386191860831969,
                                  0.2386191860831969,  0.6612093864662645,  0.9324695142031521};
   static const Real gaussW[6] = {0.1713244923791704, 0.3607615730481386, 0.4679139345726910,
                                  0.4679139345726910, 0.3607615730481386, 0.1713244923791704};
   constexpr int kDirections = 64;
-  std::vector<Vector3r> offsets;
-  std::vector<Real> weights;
+  ballOffsets_.clear();
+  ballWeights_.clear();
   const Real golden = std::numbers::pi_v<Real> * (Real(3) - std::sqrt(Real(5)));
   for (int g = 0; g < 6; ++g) {
     const Real radius = Real(0.5) * h * (gaussX[g] + 1);
@@ -159,10 +161,16 @@ void VolumeMap::computeVolumes(const CubicSplineKernel& kernel) {
     for (int d = 0; d < kDirections; ++d) {
       const Real y = 1 - (Real(d) + Real(0.5)) * Real(2) / kDirections, ring = std::sqrt(1 - y * y);
       const Real theta = golden * Real(d);
-      offsets.push_back(radius * Vector3r(ring * std::cos(theta), y, ring * std::sin(theta)));
-      weights.push_back(radialWeight * 4 * std::numbers::pi_v<Real> / kDirections);
+      ballOffsets_.push_back(radius * Vector3r(ring * std::cos(theta), y, ring * std::sin(theta)));
+      ballWeights_.push_back(radialWeight * 4 * std::numbers::pi_v<Real> / kDirections);
     }
   }
+}
+
+void VolumeMap::computeVolumes(const CubicSplineKernel& kernel) {
+  const Real h = kernel.supportRadius();
+  const std::vector<Vector3r>& offsets = ballOffsets_;
+  const std::vector<Real>& weights = ballWeights_;
   const Real w0 = kernel.W0(), wholeBall = Real(0.8) * Real(4) / 3 * std::numbers::pi_v<Real> * h * h * h;
   volume_.assign(phi_.size(), Real(0));
   const auto eachSlice = [&](std::size_t zIndex) {
@@ -189,6 +197,67 @@ void VolumeMap::computeVolumes(const CubicSplineKernel& kernel) {
 
 Real VolumeMap::exactDistance(const Vector3r& x) const {
   return isBox_ ? fluidSign_ * boxDistance(x, boxMin_, boxMax_) + offset_ : distance(x);
+}
+
+void VolumeMap::normalMoments(const Vector3r& x, const CubicSplineKernel& kernel,
+                              const std::function<Real(const Vector3r&)>& weight, Matrix3r& whole, Matrix3r& part) const {
+  // grad V = 0.8 int gamma'(Phi(x + xi)) grad Phi(x + xi) dxi over |xi| < h comes from the shell
+  // 0 < Phi < h (gamma' = W'(Phi) / W(0) there; gamma is 1 in the solid, 0 beyond h), each point
+  // pulling along the normal of its foot; the moments weigh each n n^T with |gamma'|, by the rule
+  // V was integrated with.
+  whole.setZero();
+  part.setZero();
+  const Real w0 = kernel.W0();
+  for (std::size_t q = 0; q < ballOffsets_.size(); ++q) {
+    const Vector3r y = x + ballOffsets_[q];
+    Real phi;
+    Vector3r n;
+    if (!distanceAndNormal(y, phi, n) || !(phi > 0 && phi < h_)) continue;
+    const Matrix3r moment = (Real(0.8) * ballWeights_[q] * std::abs(kernel.dWdr(phi)) / w0) * (n * n.transpose());
+    whole += moment;
+    const Real w = weight(y - phi * n);
+    if (w != 0) part += w * moment;
+  }
+}
+
+bool VolumeMap::distanceAndNormal(const Vector3r& y, Real& phi, Vector3r& normal) const {
+  if (isBox_) {
+    // The box's own distance and its gradient: the nearest face's normal inside, the direction
+    // from the nearest box point outside (the two walls of an edge keep their own normals up
+    // to the ridge between them, which the trilinear field rounds off).
+    const Vector3r c = Real(0.5) * (boxMin_ + boxMax_), half = Real(0.5) * (boxMax_ - boxMin_), rel = y - c;
+    const Vector3r q = rel.cwiseAbs() - half;
+    Vector3r gradient = Vector3r::Zero();
+    if (q.maxCoeff() > 0) {
+      const Vector3r outside = q.cwiseMax(Real(0));
+      phi = outside.norm();
+      for (int a = 0; a < 3; ++a) gradient[a] = rel[a] < 0 ? -outside[a] : outside[a];
+      gradient /= phi;
+    } else {
+      int axis = 0;
+      q.maxCoeff(&axis);
+      phi = q[axis];
+      gradient[axis] = rel[axis] < 0 ? Real(-1) : Real(1);
+    }
+    phi = fluidSign_ * phi + offset_;
+    normal = fluidSign_ * gradient;
+    return true;
+  }
+  std::size_t corners[8];
+  Real w[8], f[3];
+  if (!cellOf(y, corners, w, f)) return false;
+  phi = 0;
+  Vector3r gradient = Vector3r::Zero();
+  for (int c = 0; c < 8; ++c) {
+    const Real p = phi_[corners[c]];
+    phi += w[c] * p;
+    const int dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
+    const Real wx = dx ? f[0] : 1 - f[0], wy = dy ? f[1] : 1 - f[1], wz = dz ? f[2] : 1 - f[2];
+    gradient += p * Vector3r((dx ? 1 : -1) * wy * wz, (dy ? 1 : -1) * wx * wz, (dz ? 1 : -1) * wx * wy);
+  }
+  if (!(gradient.squaredNorm() > Real(1e-24))) return false;
+  normal = gradient.normalized();
+  return true;
 }
 
 bool VolumeMap::cellOf(const Vector3r& x, std::size_t corners[8], Real weights[8], Real fractions[3]) const {
@@ -296,6 +365,7 @@ std::unique_ptr<VolumeMap> VolumeMap::load(const StateReader& in) {
   const std::size_t nodes = std::size_t(m->dims_[0]) * std::size_t(m->dims_[1]) * std::size_t(m->dims_[2]);
   if (m->phi_.size() != nodes || m->volume_.size() != nodes)
     throw InputError(in.file() + ": the volume map's node arrays do not match its grid");
+  m->buildBallRule();
   return m;
 }
 

@@ -13,6 +13,7 @@
 // part's mid-plane: the boundary model uses it to put the resting fluid's surface on the mesh.
 // Meshes must be closed (an open one has no inside: InputError).
 #pragma once
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -40,6 +41,13 @@ class VolumeMap {
   bool sample(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume, Vector3r& volumeGradient) const;
   // Phi alone (large and positive far from the surface or off the grid).
   Real distance(const Vector3r& x) const;
+  // The surface a fluid particle at x meets, as normal moments: M = sum |w| n n^T over the points
+  // of the shell 0 < Phi < h within h of x, w their weight in grad V's quadrature and n the
+  // normal of their foot on the surface, y - Phi(y) n(y) (`whole`), and the same sum with each
+  // term times weight(foot) (`part`). Probes split a virtual particle's load so
+  // (VolumeMapBoundary_Bender2019::impulseInBox, weightedImpulse).
+  void normalMoments(const Vector3r& x, const CubicSplineKernel& kernel, const std::function<Real(const Vector3r&)>& weight,
+                     Matrix3r& whole, Matrix3r& part) const;
 
   std::size_t nodeCount() const { return phi_.size(); }
   // The node values (Phi and V at every grid node, x fastest).
@@ -60,7 +68,11 @@ class VolumeMap {
   // with a node outside the exact band.
   bool cellOf(const Vector3r& x, std::size_t corners[8], Real weights[8], Real fractions[3]) const;
   void computeDistances(const BoundaryObject& object);
+  void buildBallRule();  // ballOffsets_, ballWeights_ for h_
   void computeVolumes(const CubicSplineKernel& kernel);
+  // Phi and its unit gradient at y: analytic for a box, else of the trilinear field; false off
+  // the grid (or where the gradient vanishes).
+  bool distanceAndNormal(const Vector3r& y, Real& phi, Vector3r& normal) const;
   // Phi where the volume integral needs it: analytic for a box, else interpolated.
   Real exactDistance(const Vector3r& x) const;
 
@@ -70,6 +82,8 @@ class VolumeMap {
   int dims_[3] = {0, 0, 0};
   Real band_ = 0;  // |Phi| below this is exact; beyond, nodes hold kFar
   std::vector<Real> phi_, volume_;
+  std::vector<Vector3r> ballOffsets_;  // quadrature points of the ball |xi| < h and their weights
+  std::vector<Real> ballWeights_;
   bool isBox_ = false;
   Vector3r boxMin_ = Vector3r::Zero(), boxMax_ = Vector3r::Zero();
   Real fluidSign_ = 1;

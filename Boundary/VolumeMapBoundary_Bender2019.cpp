@@ -1,5 +1,7 @@
 #include "Boundary/VolumeMapBoundary_Bender2019.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -72,6 +74,7 @@ BoundaryEstimate VolumeMapBoundary_Bender2019::estimate(const std::vector<Bounda
 void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid,
                                               const CubicSplineKernel& kernel) {
   density0_ = fluid.density0();
+  kernel_ = kernel;
   Timer timer;
   std::size_t nodes = 0;
   maps_.clear();
@@ -155,6 +158,45 @@ bool VolumeMapBoundary_Bender2019::virtualParticle(std::size_t o, const Vector3r
   gradient = (kernel.W(s) / volume) * volumeGradient;
   if (follows) gradient += kernel.dWdr(s) * phiGradient.normalized();
   return true;
+}
+
+Vector3r VolumeMapBoundary_Bender2019::impulseInBox(Index k, const Vector3r& x, const Vector3r& impulse, const Vector3r& lo,
+                                                   const Vector3r& hi) const {
+  // What the load acts on lies within 2h of x (the feet of the shell points within h of x, the
+  // virtual particle within h): a box holding that ball takes all of it, one clear of it none.
+  const Real reach = 2 * kernel_.supportRadius();
+  if ((x - lo).minCoeff() >= reach && (hi - x).minCoeff() >= reach) return impulse;
+  if ((lo - x).cwiseMax(x - hi).cwiseMax(Vector3r::Zero()).squaredNorm() > reach * reach) return Vector3r::Zero();
+  return splitImpulse(k, x, impulse, [&](const Vector3r& p) { return Real((p - lo).minCoeff() >= 0 && (hi - p).minCoeff() >= 0); });
+}
+
+Vector3r VolumeMapBoundary_Bender2019::splitImpulse(Index k, const Vector3r& x, const Vector3r& impulse,
+                                                   const std::function<Real(const Vector3r&)>& weight) const {
+  const Real sampleWeight = weight(samples_.positions[k]);
+  const std::size_t o = samples_.bodies[k];
+  const ObjectPose& pose = poses_[o];
+  const Vector3r xq = moving_[o] ? pose.toInitial(x) : x;  // the map's frame
+  Matrix3r whole, part;
+  maps_[o]->normalMoments(xq, kernel_, [&](const Vector3r& foot) {
+    return weight(moving_[o] ? Vector3r(pose.centre + pose.rotation * (foot - pose.initialCentre)) : foot);
+  }, whole, part);
+  // J's components along the surface normals it meets, M M^+ J (M^+ the pseudo-inverse: a flat
+  // wall's M has rank 1), are shared out as the moments are, sum w(foot) m n n^T M^+ J; what is
+  // left of J (across every normal) goes with the virtual particle.
+  const Eigen::SelfAdjointEigenSolver<Matrix3r> eigen(whole);
+  const Real largest = eigen.eigenvalues().maxCoeff();
+  if (!(largest > 0)) return sampleWeight * impulse;
+  const Vector3r impulseInMap = moving_[o] ? Vector3r(pose.rotation.transpose() * impulse) : impulse;
+  Vector3r solved = Vector3r::Zero(), spanned = Vector3r::Zero();  // M^+ J, M M^+ J
+  for (int e = 0; e < 3; ++e) {
+    const Real lambda = eigen.eigenvalues()[e];
+    if (!(lambda > Real(1e-6) * largest)) continue;
+    const Vector3r u = eigen.eigenvectors().col(e);
+    solved += (u.dot(impulseInMap) / lambda) * u;
+    spanned += u.dot(impulseInMap) * u;
+  }
+  const Vector3r share = part * solved + sampleWeight * (impulseInMap - spanned);
+  return moving_[o] ? Vector3r(pose.rotation * share) : share;
 }
 
 void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) {

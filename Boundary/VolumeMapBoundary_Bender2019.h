@@ -43,6 +43,14 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
   bool implicit() const override { return true; }
   void setPose(std::size_t object, const ObjectPose& pose) override { poses_[object] = pose; }
+  // A virtual particle stands for the surface within h of its fluid particle: its load J is
+  // taken apart along the normals of that surface, weighted as they make up grad V
+  // (VolumeMap::normalMoments), and each part goes where its surface is; J's component across
+  // every normal goes with the virtual particle. A frictionless wall takes only its normal
+  // push, so along a tank's floor edge the side wall gets the sideways component and the
+  // floor the vertical one (with the whole load at the virtual particle, the side wall read
+  // 0.85 x hydrostatic in bench/wall_pressure.py).
+  Vector3r impulseInBox(Index k, const Vector3r& x, const Vector3r& impulse, const Vector3r& lo, const Vector3r& hi) const override;
 
   static std::vector<ParamSpec> parameters();
   const VolumeMap& map(std::size_t object) const { return *maps_[object]; }
@@ -55,12 +63,16 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   bool virtualParticle(std::size_t o, const Vector3r& x, const CubicSplineKernel& kernel, Vector3r& position, Real& mass,
                        Vector3r& gradient) const;
 
+  // impulseInBox's split: the sum over the surface a virtual particle stands for of
+  // weight(foot) times its share of J, plus weight(x_k) times J's rest.
+  Vector3r splitImpulse(Index k, const Vector3r& x, const Vector3r& impulse, const std::function<Real(const Vector3r&)>& weight) const;
   Real particleRadius_;
   Real fluidSpacing_;          // m, the fluid lattice spacing d
   Real cellSize_;              // m
   Real requestedOffset_;       // m; negative: computed, D - d/2
   std::string offsetObjects_;  // "auto", "all" or "none"
   Real density0_ = 1000;
+  CubicSplineKernel kernel_;  // initialize()'s, for impulseInBox
   LogSink log_;
   VolumeMapCache cache_;
   std::vector<std::unique_ptr<VolumeMap>> maps_;

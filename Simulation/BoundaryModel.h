@@ -79,6 +79,14 @@ class BoundaryModel {
   // A moving object's pose after the bodies moved (every step, and once at start-up). Sampled
   // models ignore it: the rigid-body system moves their samples itself.
   virtual void setPose(std::size_t object, const ObjectPose& pose) {}
+  // The part of the impulse J that fluid particle x gave sample k which acts on the part of k's
+  // object inside the box [lo, hi] (a force probe's region). Sampled models: all of it where
+  // the sample lies in the box, none elsewhere. Volume maps split a virtual particle's load
+  // over the surface it stands for.
+  virtual Vector3r impulseInBox(Index k, const Vector3r& x, const Vector3r& impulse, const Vector3r& lo, const Vector3r& hi) const {
+    const Vector3r& xk = samples_.positions[k];
+    return (xk - lo).minCoeff() >= 0 && (hi - xk).minCoeff() >= 0 ? impulse : Vector3r::Zero();
+  }
   // Samples moved (a moving body): the model must rebuild its acceleration structure.
   void markMoved() { moved_ = true; }
   BoundarySamples& samples() { return samples_; }

@@ -190,8 +190,9 @@ Real Probes::weight(Real t2, Real radius) const {
 void Probes::setObjectCentre(std::size_t object, const Vector3r& centre) { objectCentre_[object] = centre; }
 
 void Probes::measureLoads(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
-                          const BoundarySamples& samples, const std::vector<Vector3r>& impulses, Real dt) {
+                          const BoundaryModel& boundary, const std::vector<Vector3r>& impulses, Real dt) {
   if (!readsLoads_) return;
+  const BoundarySamples& samples = boundary.samples();
   // Accumulators: per probe, 6 slots (pressure probes use the first), summed over the pairs of
   // every fluid particle in parallel (one array per thread, joined after the loop: no atomics).
   const std::size_t np = probes_.size();
@@ -210,13 +211,10 @@ void Probes::measureLoads(const NeighborLists& lists, const std::vector<Vector3r
         const ProbeDescription& d = probes_[p];
         if (d.kind == ProbeKind::Force) {
           if (forceObject_[p] != object) continue;
-          if (d.hasRegion) {
-            const Vector3r& x = samples.positions[k];
-            if ((x - d.regionMin).minCoeff() < 0 || (d.regionMax - x).minCoeff() < 0) continue;
-          }
+          const Vector3r load = d.hasRegion ? boundary.impulseInBox(k, fluidPositions[i], J, d.regionMin, d.regionMax) : J;
           const Vector3r reference = d.hasPoint ? d.point : objectCentre_[object];
-          const Vector3r torque = (fluidPositions[i] - reference).cross(J);
-          for (int a = 0; a < 3; ++a) acc[6 * p + a] += J[a], acc[6 * p + 3 + a] += torque[a];
+          const Vector3r torque = (fluidPositions[i] - reference).cross(load);
+          for (int a = 0; a < 3; ++a) acc[6 * p + a] += load[a], acc[6 * p + 3 + a] += torque[a];
         } else if (d.kind == ProbeKind::Pressure) {
           const PressureGeometry& g = pressure_[p];
           if (g.object != object) continue;

@@ -18,8 +18,9 @@
 //             moving): the sum of the same impulses over the object's samples, divided by dt;
 //             the torque about `point` (default: the object's centre of volume, a moving body's
 //             current centre of mass), taken at the fluid particles as the rigid-body coupling
-//             does. An optional `region` box keeps only the samples inside it (one wall of a
-//             tank, a section of a gate).
+//             does. An optional `region` box keeps only the load on the part of the object
+//             inside it (one wall of a tank, a section of a gate): the samples inside it, for
+//             volume maps the share of each virtual particle's load whose surface lies inside.
 //
 // Loads come from the pressure solver's reaction, not from the particles' pressure values, so
 // they obey momentum balance whatever the boundary pressure treatment: at rest the floor carries
@@ -68,7 +69,8 @@ class Probes {
   // After the pressure solve, before the boundary moves: pressure and force probes from the
   // impulses per fluid-boundary pair of this step (`impulses[e]` for the pair e = (i, k) of
   // `lists`, the impulse on sample k).
-  void measureLoads(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions, const BoundarySamples& samples,
+  // A region takes what the boundary model says acts inside it (BoundaryModel::impulseInBox).
+  void measureLoads(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions, const BoundaryModel& boundary,
                     const std::vector<Vector3r>& impulses, Real dt);
   // At the end of a step: level probes from the fluid's positions.
   void measureLevels(const FluidModel& fluid, const CubicSplineKernel& kernel);

@@ -303,7 +303,7 @@ void Simulation::measureWallLoads(StepContext& ctx) {
   // Torques about the moving bodies' centres of mass where they are during this step.
   if (bodies_)
     for (const RigidBody& b : bodies_->bodies()) probes_->setObjectCentre(b.object, b.x);
-  probes_->measureLoads(boundaryNeighbors_, fluid_->positions, boundaryModel_->samples(), pairImpulses_, dt_);
+  probes_->measureLoads(boundaryNeighbors_, fluid_->positions, *boundaryModel_, pairImpulses_, dt_);
 }
 
 void Simulation::removeParticlesOutside() {

@@ -265,3 +265,25 @@ TEST(VolumeMapBoundary, DynamicBodiesGetContactPointsWithoutAWarning) {
   sim->run(Real(0.1));
   EXPECT_NEAR(sim->rigidBodies()->bodies().at(0).v[1], -9.81 * 0.1, 0.02);
 }
+
+
+// The surface a particle near a tank's floor edge meets is two walls: its normal moments split
+// into the side wall's (n n^T = x x^T only) and the floor's (y y^T only), which add up to the
+// whole; the load a force probe's region takes is split by them (VolumeMapBoundary_Bender2019::
+// impulseInBox).
+TEST(VolumeMap, NormalMomentsSplitAnEdgeIntoItsWalls) {
+  const CubicSplineKernel kernel(4 * kR);
+  const VolumeMap map(boxObject(Vector3r::Zero(), Vector3r(1, 1, 1), true), kernel, kR);
+  const Vector3r x(Real(1.5) * kR, Real(1.2) * kR, Real(0.5));
+  Matrix3r whole, side, floor, unused;
+  // A side-wall foot has x = 0 < y, a floor foot y = 0 < x.
+  map.normalMoments(x, kernel, [](const Vector3r& foot) { return Real(foot[0] < foot[1]); }, whole, side);
+  map.normalMoments(x, kernel, [](const Vector3r& foot) { return Real(!(foot[0] < foot[1])); }, unused, floor);
+  EXPECT_GT(side(0, 0), 0);
+  EXPECT_GT(floor(1, 1), 0);
+  EXPECT_LT((side - side(0, 0) * Vector3r::UnitX() * Vector3r::UnitX().transpose()).norm(), 1e-12 * whole.norm());
+  EXPECT_LT((floor - floor(1, 1) * Vector3r::UnitY() * Vector3r::UnitY().transpose()).norm(), 1e-12 * whole.norm());
+  EXPECT_LT((side + floor - whole).norm(), 1e-12 * whole.norm());
+  // The particle is nearer the floor: the floor's share is the larger.
+  EXPECT_GT(floor(1, 1), side(0, 0));
+}
