@@ -200,7 +200,7 @@ Real VolumeMap::exactDistance(const Vector3r& x) const {
 }
 
 void VolumeMap::normalMoments(const Vector3r& x, const CubicSplineKernel& kernel,
-                              const std::function<Real(const Vector3r&)>& weight, Matrix3r& whole, Matrix3r& part) const {
+                              const std::function<bool(const Vector3r&)>& onPart, Matrix3r& whole, Matrix3r& part) const {
   // grad V = 0.8 int gamma'(Phi(x + xi)) grad Phi(x + xi) dxi over |xi| < h comes from the shell
   // 0 < Phi < h (gamma' = W'(Phi) / W(0) there; gamma is 1 in the solid, 0 beyond h), each point
   // pulling along the normal of its foot; the moments weigh each n n^T with |gamma'|, by the rule
@@ -215,8 +215,7 @@ void VolumeMap::normalMoments(const Vector3r& x, const CubicSplineKernel& kernel
     if (!distanceAndNormal(y, phi, n) || !(phi > 0 && phi < h_)) continue;
     const Matrix3r moment = (Real(0.8) * ballWeights_[q] * std::abs(kernel.dWdr(phi)) / w0) * (n * n.transpose());
     whole += moment;
-    const Real w = weight(y - phi * n);
-    if (w != 0) part += w * moment;
+    if (onPart(y - phi * n)) part += moment;
   }
 }
 
@@ -251,9 +250,7 @@ bool VolumeMap::distanceAndNormal(const Vector3r& y, Real& phi, Vector3r& normal
   for (int c = 0; c < 8; ++c) {
     const Real p = phi_[corners[c]];
     phi += w[c] * p;
-    const int dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
-    const Real wx = dx ? f[0] : 1 - f[0], wy = dy ? f[1] : 1 - f[1], wz = dz ? f[2] : 1 - f[2];
-    gradient += p * Vector3r((dx ? 1 : -1) * wy * wz, (dy ? 1 : -1) * wx * wz, (dz ? 1 : -1) * wx * wy);
+    gradient += p * weightGradient(c, f);
   }
   if (!(gradient.squaredNorm() > Real(1e-24))) return false;
   normal = gradient.normalized();
@@ -279,6 +276,14 @@ bool VolumeMap::cellOf(const Vector3r& x, std::size_t corners[8], Real weights[8
   return true;
 }
 
+Vector3r VolumeMap::weightGradient(int corner, const Real fractions[3]) {
+  // d/dx of the trilinear weights: +-(the other two axes' weights) / cell.
+  const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
+  const Real wx = dx ? fractions[0] : 1 - fractions[0], wy = dy ? fractions[1] : 1 - fractions[1],
+             wz = dz ? fractions[2] : 1 - fractions[2];
+  return Vector3r((dx ? 1 : -1) * wy * wz, (dy ? 1 : -1) * wx * wz, (dz ? 1 : -1) * wx * wy);
+}
+
 bool VolumeMap::sample(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume, Vector3r& volumeGradient) const {
   std::size_t corners[8];
   Real w[8], f[3];
@@ -291,10 +296,7 @@ bool VolumeMap::sample(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real
     const Real p = phi_[corners[c]], v = volume_[corners[c]];
     phi += w[c] * p;
     volume += w[c] * v;
-    // d/dx of the trilinear weights: +-(the other two axes' weights) / cell.
-    const int dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
-    const Real wx = dx ? f[0] : 1 - f[0], wy = dy ? f[1] : 1 - f[1], wz = dz ? f[2] : 1 - f[2];
-    const Vector3r dw((dx ? 1 : -1) * wy * wz, (dy ? 1 : -1) * wx * wz, (dz ? 1 : -1) * wx * wy);
+    const Vector3r dw = weightGradient(c, f);
     phiGradient += p * dw;
     volumeGradient += v * dw;
   }

@@ -43,10 +43,10 @@ class VolumeMap {
   Real distance(const Vector3r& x) const;
   // The surface a fluid particle at x meets, as normal moments: M = sum |w| n n^T over the points
   // of the shell 0 < Phi < h within h of x, w their weight in grad V's quadrature and n the
-  // normal of their foot on the surface, y - Phi(y) n(y) (`whole`), and the same sum with each
-  // term times weight(foot) (`part`). Probes split a virtual particle's load so
-  // (VolumeMapBoundary_Bender2019::impulseInBox, weightedImpulse).
-  void normalMoments(const Vector3r& x, const CubicSplineKernel& kernel, const std::function<Real(const Vector3r&)>& weight,
+  // normal of their foot on the surface, y - Phi(y) n(y) (`whole`), and the same sum over the
+  // points whose foot `onPart` accepts (`part`). A force probe's region splits a virtual
+  // particle's load so (VolumeMapBoundary_Bender2019::impulseInBox).
+  void normalMoments(const Vector3r& x, const CubicSplineKernel& kernel, const std::function<bool(const Vector3r&)>& onPart,
                      Matrix3r& whole, Matrix3r& part) const;
 
   std::size_t nodeCount() const { return phi_.size(); }
@@ -67,6 +67,8 @@ class VolumeMap {
   // Trilinear weights of x's cell (and the cell's fractions); false off the grid or in a cell
   // with a node outside the exact band.
   bool cellOf(const Vector3r& x, std::size_t corners[8], Real weights[8], Real fractions[3]) const;
+  // d/dx of corner `corner`'s trilinear weight at the cell fractions, times the cell size.
+  static Vector3r weightGradient(int corner, const Real fractions[3]);
   void computeDistances(const BoundaryObject& object);
   void buildBallRule();  // ballOffsets_, ballWeights_ for h_
   void computeVolumes(const CubicSplineKernel& kernel);

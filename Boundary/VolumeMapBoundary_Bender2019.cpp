@@ -1,7 +1,6 @@
 #include "Boundary/VolumeMapBoundary_Bender2019.h"
 
 #include <Eigen/Eigenvalues>
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -167,25 +166,21 @@ Vector3r VolumeMapBoundary_Bender2019::impulseInBox(Index k, const Vector3r& x, 
   const Real reach = 2 * kernel_.supportRadius();
   if ((x - lo).minCoeff() >= reach && (hi - x).minCoeff() >= reach) return impulse;
   if ((lo - x).cwiseMax(x - hi).cwiseMax(Vector3r::Zero()).squaredNorm() > reach * reach) return Vector3r::Zero();
-  return splitImpulse(k, x, impulse, [&](const Vector3r& p) { return Real((p - lo).minCoeff() >= 0 && (hi - p).minCoeff() >= 0); });
-}
-
-Vector3r VolumeMapBoundary_Bender2019::splitImpulse(Index k, const Vector3r& x, const Vector3r& impulse,
-                                                   const std::function<Real(const Vector3r&)>& weight) const {
-  const Real sampleWeight = weight(samples_.positions[k]);
+  auto inBox = [&](const Vector3r& p) { return (p - lo).minCoeff() >= 0 && (hi - p).minCoeff() >= 0; };
+  const bool sampleInside = inBox(samples_.positions[k]);
   const std::size_t o = samples_.bodies[k];
   const ObjectPose& pose = poses_[o];
   const Vector3r xq = moving_[o] ? pose.toInitial(x) : x;  // the map's frame
   Matrix3r whole, part;
   maps_[o]->normalMoments(xq, kernel_, [&](const Vector3r& foot) {
-    return weight(moving_[o] ? Vector3r(pose.centre + pose.rotation * (foot - pose.initialCentre)) : foot);
+    return inBox(moving_[o] ? Vector3r(pose.centre + pose.rotation * (foot - pose.initialCentre)) : foot);
   }, whole, part);
   // J's components along the surface normals it meets, M M^+ J (M^+ the pseudo-inverse: a flat
-  // wall's M has rank 1), are shared out as the moments are, sum w(foot) m n n^T M^+ J; what is
-  // left of J (across every normal) goes with the virtual particle.
+  // wall's M has rank 1), are shared out as the moments are, M_part M^+ J; what is left of J
+  // (across every normal) goes with the virtual particle.
   const Eigen::SelfAdjointEigenSolver<Matrix3r> eigen(whole);
   const Real largest = eigen.eigenvalues().maxCoeff();
-  if (!(largest > 0)) return sampleWeight * impulse;
+  if (!(largest > 0)) return sampleInside ? impulse : Vector3r::Zero();
   const Vector3r impulseInMap = moving_[o] ? Vector3r(pose.rotation.transpose() * impulse) : impulse;
   Vector3r solved = Vector3r::Zero(), spanned = Vector3r::Zero();  // M^+ J, M M^+ J
   for (int e = 0; e < 3; ++e) {
@@ -195,7 +190,8 @@ Vector3r VolumeMapBoundary_Bender2019::splitImpulse(Index k, const Vector3r& x, 
     solved += (u.dot(impulseInMap) / lambda) * u;
     spanned += u.dot(impulseInMap) * u;
   }
-  const Vector3r share = part * solved + sampleWeight * (impulseInMap - spanned);
+  Vector3r share = part * solved;
+  if (sampleInside) share += impulseInMap - spanned;
   return moving_[o] ? Vector3r(pose.rotation * share) : share;
 }
 

@@ -63,9 +63,6 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   bool virtualParticle(std::size_t o, const Vector3r& x, const CubicSplineKernel& kernel, Vector3r& position, Real& mass,
                        Vector3r& gradient) const;
 
-  // impulseInBox's split: the sum over the surface a virtual particle stands for of
-  // weight(foot) times its share of J, plus weight(x_k) times J's rest.
-  Vector3r splitImpulse(Index k, const Vector3r& x, const Vector3r& impulse, const std::function<Real(const Vector3r&)>& weight) const;
   Real particleRadius_;
   Real fluidSpacing_;          // m, the fluid lattice spacing d
   Real cellSize_;              // m

@@ -277,8 +277,8 @@ TEST(VolumeMap, NormalMomentsSplitAnEdgeIntoItsWalls) {
   const Vector3r x(Real(1.5) * kR, Real(1.2) * kR, Real(0.5));
   Matrix3r whole, side, floor, unused;
   // A side-wall foot has x = 0 < y, a floor foot y = 0 < x.
-  map.normalMoments(x, kernel, [](const Vector3r& foot) { return Real(foot[0] < foot[1]); }, whole, side);
-  map.normalMoments(x, kernel, [](const Vector3r& foot) { return Real(!(foot[0] < foot[1])); }, unused, floor);
+  map.normalMoments(x, kernel, [](const Vector3r& foot) { return foot[0] < foot[1]; }, whole, side);
+  map.normalMoments(x, kernel, [](const Vector3r& foot) { return !(foot[0] < foot[1]); }, unused, floor);
   EXPECT_GT(side(0, 0), 0);
   EXPECT_GT(floor(1, 1), 0);
   EXPECT_LT((side - side(0, 0) * Vector3r::UnitX() * Vector3r::UnitX().transpose()).norm(), 1e-12 * whole.norm());
