@@ -31,10 +31,7 @@ std::vector<ParamSpec> DFSPH::parameters() {
       {"maxIterationsDivergence", ParamType::Int, 100, "maximum iterations of the divergence solve", 1, 100000},
       {"enableDivergenceSolver", ParamType::Bool, true, "run the divergence-free solve"},
       {"warmStart", ParamType::Bool, true, "start both solves from the previous step's pressures"},
-      {"overlapReliefSpeed", ParamType::Real, 0.25,
-       "overlap relief: a particle more than 1 % over rho0 at the start of a step (an overlap with a body) "
-       "is asked to lose at most rho0 overlapReliefSpeed dt / h of density per step instead of all of it, "
-       "which would fling it out; measured push-out speeds are about 4 times this, m/s (0: off)", 0, 1e6},
+      overlapReliefParameter(),
       densityRelaxationParameter(),
   };
 }
@@ -81,14 +78,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
   const auto& bn = ctx.boundaryNeighbors;
   const Real rho0 = f.density0(), dt = ctx.dt;
   const std::size_t n = f.size();
-  // Overlap relief: the target density of a particle that is already far too dense (an overlap
-  // with a body at start-up) is lowered by at most maxDensityDrop per step instead of to rho0
-  // at once, which needs about (overlap depth) / dt, more where grad W vanishes near a sample.
-  // Particles within 1 % of rho0 (every particle of a converged run) keep the target rho0.
-  const Real maxDensityDrop = settings_.overlapReliefSpeed > 0
-                                  ? std::max(rho0 * settings_.overlapReliefSpeed * dt / ctx.kernel.supportRadius(),
-                                             Real(0.01) * rho0)
-                                  : std::numeric_limits<Real>::infinity();
+  const Real maxDrop = maxDensityDrop(ctx, rho0, settings_.overlapReliefSpeed);
   const Real relaxationTime = settings_.relaxOverResolutionStep ? ctx.densityRelaxationTime : Real(0);
   const double errorSum = parallelSum<double>(n, [&](std::size_t i) {
     const Real drho = densityRate(ctx, i);
@@ -101,7 +91,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
       return s * dt / rho0;
     } else {
       // rho*_i - target with rho*_i = rho_i + dt D rho_i / Dt (Eq. 6), compression only.
-      const Real target = driftTarget(f.densities[i], rho0, dt, relaxationTime, maxDensityDrop);
+      const Real target = driftTarget(f.densities[i], rho0, dt, relaxationTime, maxDrop);
       s = std::max(f.densities[i] + dt * drho - target, Real(0));
       increment_[i] = s * invDiagonal_[i] / (dt * dt);
       return s / rho0;

@@ -21,6 +21,7 @@ std::vector<ParamSpec> IISPH::parameters() {
       {"maxIterations", ParamType::Int, 100, "maximum Jacobi iterations", 1, 100000},
       {"omega", ParamType::Real, 0.5, "relaxation factor of the Jacobi iteration (Eq. 11)", 1e-3, 1},
       {"warmStart", ParamType::Bool, true, "start from half of the previous step's pressure"},
+      overlapReliefParameter(),
       densityRelaxationParameter(),
   };
 }
@@ -31,6 +32,7 @@ IISPH::IISPH(const Params& p) {
   settings_.maxIterations = p.integer("maxIterations");
   settings_.omega = p.real("omega");
   settings_.warmStart = p.boolean("warmStart");
+  settings_.overlapReliefSpeed = p.real("overlapReliefSpeed");
   settings_.relaxOverResolutionStep = p.string("densityRelaxation") == "resolution";
   if (settings_.minIterations > settings_.maxIterations)
     throw InputError(p.pathOf("minIterations") + ": must not exceed maxIterations");
@@ -43,6 +45,7 @@ void IISPH::prepare(StepContext& ctx) {
   const Real rho0 = f.density0(), dt = ctx.dt, omega = settings_.omega;
   const Real start = settings_.warmStart ? Real(0.5) : Real(0);
   const Real relaxationTime = settings_.relaxOverResolutionStep ? ctx.densityRelaxationTime : Real(0);
+  const Real maxDrop = maxDensityDrop(ctx, rho0, settings_.overlapReliefSpeed);
   const std::size_t n = f.size();
   source_.resize(n);
   omegaOverA_.resize(n);
@@ -51,8 +54,8 @@ void IISPH::prepare(StepContext& ctx) {
   parallelFor(n, [&](std::size_t i) {
     const Real rhoI = f.densities[i];
     // s_i = (target - rho*_i) / dt, rho*_i = rho_i + dt D rho_i / Dt (Eqs. 5, 6); target = rho0
-    // unless the step starts over rho0 (driftTarget).
-    const Real target = driftTarget(rhoI, rho0, dt, relaxationTime, std::numeric_limits<Real>::infinity());
+    // unless the step starts over rho0 (driftTarget, overlap relief).
+    const Real target = driftTarget(rhoI, rho0, dt, relaxationTime, maxDrop);
     source_[i] = (target - rhoI - dt * densityRate(ctx, i)) / dt;
     // A_ii = -dt / rho_i^2 (|sum_j m_j grad W_ij + g_i|^2 + sum_j m_i m_j |grad W_ij|^2 [+ Eq. 15's term]).
     Vector3r sumGrad = treatment_.boundaryGradient(i);

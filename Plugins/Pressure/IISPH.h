@@ -29,6 +29,7 @@ class IISPH final : public PressureSolver {
     int minIterations, maxIterations;
     Real omega;      // Jacobi relaxation
     bool warmStart;  // start from half of the previous step's pressure (Ihmsen et al. 2014)
+    Real overlapReliefSpeed;  // m/s, 0: off (maxDensityDrop)
     bool relaxOverResolutionStep;  // densityRelaxation "resolution" (driftTarget)
   } settings_;
 
