@@ -16,9 +16,11 @@ Cases, each with an exact or published answer and reduced to one error number pe
   jet         a 2 m/s round jet (radius a = 0.04 m) without gravity onto a plate, r = a/4, a/8,
               a/12 (as bench/wall_pressure.py): |plate force / (mdot U) - 1|, mean over 0.3-0.6 s;
   spheredrop  (full sweep) the paper's experiment, data/scenes/SphereDrop.json, DFSPH, Akinci
-              walls, each treatment: the near-wall pressure noise at rest (RMS of p - p_h over
-              the particles within 3.5 r of the sphere, / mean p_h; p_h hydrostatic with the
-              surface fitted on the bulk) over the last second of 4 s.
+              walls, each treatment, at rest over the last second of 4 s, the particles within
+              3.5 r of the sphere against p_h (hydrostatic, surface fitted on the bulk), split in
+              two because they are different failures: the near-wall level k (least squares
+              p ~ k p_h per snapshot) -> "spheredrop_bias" = |k - 1|; the noise around it, RMS of
+              p - k p_h / mean p_h -> "spheredrop_noise" (the paper's "mirroring is noisier").
 
 The sweep (each point: one child process, 2 threads by default, wall time of the stepping only;
 machine and load average printed):
@@ -45,7 +47,10 @@ Output: bench/results/pareto.csv (every point), bench/results/pareto_<case>.png 
 against wall time, colour = solver, marker = boundary model, the Pareto front drawn),
 bench/results/pareto.md (the fronts, the cheapest configuration per error level, the feature
 costs), printed as well.
+--cases tank,spheredrop re-measures only those cases (the full sweep's points for them) and keeps
+every other case's points, and the feature costs, from the bench/results files already there.
 Usage: /usr/bin/python3 bench/pareto.py [--quick] [--threads 2] [--build build] [--float-build DIR]
+                                        [--cases CASE,...]
 """
 import argparse
 import csv
@@ -66,7 +71,7 @@ RHO0, G, SPACING = 1000.0, 9.81, 1.8566
 TANK_W = 8 * SPACING * 0.025
 CASES = ["tank", "martinmoyce", "buoyancy", "jet"]
 METRICS = {"tank": ["tank_rms", "tank_floor"], "martinmoyce": ["martinmoyce"], "buoyancy": ["buoyancy"], "jet": ["jet"],
-           "spheredrop": ["spheredrop"]}
+           "spheredrop": ["spheredrop_noise", "spheredrop_bias"]}
 RADII = {"tank": [0.025, 0.025 * 8 / 12, 0.0125], "martinmoyce": [0.01, 0.005, 0.0025],
          "buoyancy": [0.02, 0.02 * 2 / 3, 0.01], "jet": [0.01, 0.005, 0.04 / 12]}
 DEFAULT_TOLERANCE = 0.01
@@ -218,7 +223,7 @@ def measure(case, cfg, r, threads):
         rr = scene["simulation"]["particleRadius"]
         t0 = time.perf_counter()
         sim.run(until=3.0)
-        noise = []
+        noise, bias = [], []
         while sim.time < 4.0 - 1e-9:
             sim.step(10)
             x, p = f.positions, f.pressures
@@ -228,9 +233,12 @@ def measure(case, cfg, r, threads):
             ys = float(np.mean(x[bulk, 1] + p[bulk] / (RHO0 * G)))
             near = (wall_dist < 3.5 * rr) & (x[:, 1] < top - 4 * rr)
             ph = RHO0 * G * (ys - x[near, 1])
-            noise.append(float(np.sqrt(np.mean((p[near] - ph) ** 2)) / np.mean(ph)))
+            k = float(np.dot(p[near], ph) / np.dot(ph, ph))
+            bias.append(k - 1)
+            noise.append(float(np.sqrt(np.mean((p[near] - k * ph) ** 2)) / np.mean(ph)))
         wall = time.perf_counter() - t0
-        out["spheredrop"] = 100 * float(np.mean(noise))
+        out["spheredrop_noise"] = 100 * float(np.mean(noise))
+        out["spheredrop_bias"] = 100 * abs(float(np.mean(bias)))
     s = sim.summary()
     out.update({"wall": wall, "steps": s["steps"], "pressure_iterations": s["averagePressureIterations"],
                 "cap_hits": s["iterationCapHits"], "treatment_resolved": s["boundaryPressure"]})
@@ -346,14 +354,49 @@ def feature_costs(build, threads, reps=3):
     return times
 
 
+CSV_HEADER = ["case", "solver", "model", "treatment", "tolerance_percent", "precision", "r", "metric", "error_percent",
+              "wall_s", "steps", "pressure_iterations_per_step", "cap_hits", "load", "failure"]
+
+
+def read_points(path):
+    """The points of an earlier pareto.csv (one row per metric), as main() builds them."""
+    points = {}
+    with open(path) as f:
+        for row in csv.DictReader(f):
+            cfg = {"solver": row["solver"], "model": row["model"], "treatment": row["treatment"],
+                   "tolerance": float(row["tolerance_percent"]), "precision": row["precision"]}
+            key = (row["case"], json.dumps(cfg, sort_keys=True), row["r"])
+            p = points.setdefault(key, {"case": row["case"], "cfg": cfg, "r": float(row["r"]), "load": float(row["load"])})
+            if row["error_percent"] != "nan":
+                p.update({row["metric"]: float(row["error_percent"]), "wall": float(row["wall_s"]), "steps": int(row["steps"]),
+                          "pressure_iterations": float(row["pressure_iterations_per_step"]), "cap_hits": int(row["cap_hits"])})
+            elif row.get("failure"):
+                p["error"] = row["failure"]
+    for p in points.values():
+        if "wall" not in p and "error" not in p:
+            p["error"] = "failed (the earlier csv has no reason)"
+    return list(points.values())
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--build", default="build")
     ap.add_argument("--float-build", default="", help="a build folder configured with -DCONSPH_DOUBLE=OFF")
+    ap.add_argument("--cases", default="", help="comma-separated cases to re-measure; the rest is kept from pareto.csv")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    only = [c for c in args.cases.split(",") if c]
+    for c in only:
+        if c not in METRICS:
+            ap.error(f"--cases: unknown case '{c}' (cases: {', '.join(METRICS)})")
+    kept = []
+    if only:
+        old_csv = os.path.join(HERE, "results", "pareto.csv")
+        if not os.path.exists(old_csv):
+            ap.error(f"--cases keeps the other cases from {old_csv}, which does not exist: run the full sweep first")
+        kept = [p for p in read_points(old_csv) if p["case"] not in only]
     if args.child:
         spec = json.loads(args.child)
         print(json.dumps(measure(spec["case"], spec["cfg"], spec["r"], args.threads)))
@@ -365,6 +408,8 @@ def main():
               f"{os.getloadavg()[0]:.2f}")
     print(header, flush=True)
     for case, cfg, r in sweep(args.quick, bool(args.float_build)):
+        if only and case not in only:
+            continue
         build = args.float_build if cfg["precision"] == "float" else args.build
         env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, build, "python"), OMP_NUM_THREADS=str(args.threads))
         spec = json.dumps({"case": case, "cfg": cfg, "r": r})
@@ -379,18 +424,28 @@ def main():
             errs = ", ".join(f"{m} {point[m]:.3g} %" for m in METRICS[case] if m in point)
             print(f"{case:11s} {label(cfg, r):60s} {errs}, {point['wall']:.1f} s, {point['steps']} steps", flush=True)
         points.append(point)
+    minutes = (time.time() - started) / 60
+    measured = len(points)
+    points = kept + points
     with open(os.path.join(HERE, "results", "pareto.csv"), "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["case", "solver", "model", "treatment", "tolerance_percent", "precision", "r", "metric", "error_percent",
-                    "wall_s", "steps", "pressure_iterations_per_step", "cap_hits", "load"])
+        w.writerow(CSV_HEADER)
         for p in points:
             c = p["cfg"]
             for m in METRICS[p["case"]]:
                 w.writerow([p["case"], c["solver"], c["model"], c["treatment"], c["tolerance"], c["precision"], p["r"], m,
                             p.get(m, "nan"), p.get("wall", "nan"), p.get("steps", ""), p.get("pressure_iterations", ""),
-                            p.get("cap_hits", ""), f"{p['load']:.2f}"])
-    lines = [header + f"; sweep {'quick' if args.quick else 'full'}, {len(points)} runs, "
-             f"{(time.time() - started) / 60:.1f} min.", ""]
+                            p.get("cap_hits", ""), f"{p['load']:.2f}", p.get("error", "")])
+    sweep_line = f"; sweep {'quick' if args.quick else 'full'}, {measured} runs, {minutes:.1f} min."
+    if only:
+        sweep_line = (f"; cases {', '.join(only)} re-measured ({measured} runs, {minutes:.1f} min), the other "
+                      f"{len(kept)} points kept from the earlier pareto.csv.")
+    lines = [header + sweep_line, ""]
+    failed = [p for p in points if "error" in p]
+    if failed:
+        lines += ["Runs that failed (no point on the plot):", ""]
+        lines += [f"- {p['case']} {label(p['cfg'], p['r'])}: {p['error']}" for p in failed]
+        lines.append("")
     for case in CASES + ["spheredrop"]:
         for metric in METRICS[case]:
             pts = [p for p in points if p["case"] == case and metric in p]
@@ -411,7 +466,13 @@ def main():
                 else:
                     lines.append(f"| {level} % | none of the sweep | |")
             lines.append("")
-    if not args.quick:
+    if only:
+        with open(os.path.join(HERE, "results", "pareto.md")) as f:
+            old_md = f.read()
+        mark = "### What an unused feature costs"
+        if mark in old_md:
+            lines += [mark, "", "(measured with the earlier sweep)", old_md[old_md.index(mark) + len(mark):].rstrip("\n"), ""]
+    elif not args.quick:
         costs = feature_costs(args.build, args.threads)
         base = [t for t in costs["none"] if t == t]
         lines += ["### What an unused feature costs", "",
