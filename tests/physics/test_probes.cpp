@@ -17,11 +17,11 @@ namespace consph {
 namespace {
 
 constexpr Real kR = Real(0.025), kSpacing = Real(1.8566) * kR;  // the scene default lattice
-constexpr int kColumns = 8, kLayers = 16;
+constexpr int kColumns = 10, kLayers = 20;
 constexpr Real kWidth = kColumns * kSpacing, kBlockHeight = kLayers * kSpacing;
 constexpr Real kRho0 = 1000, kG = Real(9.81);
 
-// An 8 x 8 x 16 block drawn up to the walls of its tank (the "auto" offset puts the resting
+// A 10 x 10 x 20 block (bench/wall_pressure.py's tank) drawn up to the walls of its tank (the "auto" offset puts the resting
 // fluid's surface on the tank's mesh), with a probe of every kind.
 json tankScene(const std::string& boundaryPressure, const std::string& boundaryModel = "Akinci2012") {
   const Real w = kWidth, eps = Real(1e-9);
@@ -90,10 +90,12 @@ TEST_P(RestingTank, WallLoadsMatchHydrostatics) {
   const double volumeHeight = double(sim->fluid().size()) * std::pow(double(kSpacing), 3) / (kWidth * kWidth);
   EXPECT_NEAR(H, volumeHeight, kSpacing);
   // The pressure field up to the walls: every particle deeper than 3r, wall layers included,
-  // within RMS 2 % of rho0 g H of rho0 g d (d below the gauge's surface). Fitted slope: the
-  // issue's 1 % holds in the 10 x 10 x 20 tank of bench/wall_pressure.py (1.0047); in this
-  // smaller one, where a third of the particles touch a wall, it reads 1.019 (measured
-  // 2026-12-01), so this fast version asserts 2 %.
+  // within RMS 2 % of rho0 g H of rho0 g d (d below the gauge's surface), and the fitted slope
+  // within 2 %. Measured 2026-12-03 (Intel Xeon, -march=native, double): side wall 0.986, RMS
+  // 1.44 %, slope 1.013. The 8 x 8 x 16 tank this test used before, where a third of the
+  // particles touch a wall, settles into a packing that depends on the CPU's round-off: side
+  // wall >= 0.98, slope 1.019 on an AMD EPYC; 0.979, slope 1.046, RMS 2.3 % on the Intel Xeon,
+  // with the code of then alike.
   // Read from the exported field pressureAverage (the solver's per-particle values scatter by
   // ~5 % of rho0 g H at the bottom: measured RMS 5.4 % raw, 1.0 % averaged, 10 x 10 x 20 tank).
   sim->computeAveragedPressure();
@@ -109,6 +111,9 @@ TEST_P(RestingTank, WallLoadsMatchHydrostatics) {
     squares += std::pow(p[i] - kRho0 * kG * depth, 2);
     ++count;
   }
+  std::printf("[ resting tank, %s ] floor %.4f, side wall %.4f x hydrostatic; pressure field RMS %.4f rho0 g H, slope %.4f rho0 g\n",
+              GetParam(), -avg.at("tank.fy") / weight, -avg.at("wall.fx") / sideForce,
+              std::sqrt(squares / count) / (kRho0 * kG * H), fit.slope() / (kRho0 * kG));
   EXPECT_LT(std::sqrt(squares / count) / (kRho0 * kG * H), 0.02) << "pressure field RMS over " << count << " particles";
   EXPECT_NEAR(fit.slope() / (kRho0 * kG), 1.0, 0.02);
 }
@@ -116,8 +121,9 @@ TEST_P(RestingTank, WallLoadsMatchHydrostatics) {
 // "auto" is the default (extrapolation with these Akinci walls).
 INSTANTIATE_TEST_SUITE_P(Treatments, RestingTank, ::testing::Values("auto", "extrapolation"),
                          [](const auto& info) { return std::string(info.param); });
-// Consistent (Eq. 33) meets every bound here but the side wall's: measured 1.034 x the
-// hydrostatic force (level 0.725 m against the volume's 0.743 m: its wall layers hug the walls).
+// Consistent (Eq. 33) meets every bound but the side wall's: measured 1.034 x the hydrostatic
+// force in the 8 x 8 x 16 tank (level 0.725 m against the volume's 0.743 m: its wall layers hug
+// the walls).
 INSTANTIATE_TEST_SUITE_P(DISABLED_SideWallThreePercentHigh, RestingTank, ::testing::Values("consistent"),
                          [](const auto& info) { return std::string(info.param); });
 
@@ -142,10 +148,10 @@ TEST(RestingTankWithVolumeMaps, WallLoadsMatchHydrostaticsAndRegionsAddUp) {
   EXPECT_NEAR(-avg.at("tank.fy") / weight, 1.0, 0.005) << "floor (whole tank) force / weight";
   const double sideForce = kG * kWidth * avg.at("massMoment") / (kWidth * kWidth);
   EXPECT_NEAR(-avg.at("wall.fx") / sideForce, 1.0, 0.02) << "side wall force, H = " << H;
-  // The pressure probes are held to their bounds in the 4.6 h wide tank of bench/wall_pressure.py
-  // (floor / side 1.009 / 1.017). In this 3.7 h wide one their 2h disc runs over the floor's
-  // edges, where a virtual particle carries the load of both walls at one point: 0.934 / 0.965
-  // (1.023 / within 3 % with a disc of radius h), measured 2026-12-02.
+  // The pressure probes are not asserted here: bench/wall_pressure.py measures them in this tank
+  // (floor / side 1.009 / 1.017); in the 8 x 8 x 16 tank this test used before, their 2h disc
+  // ran over the floor's edges, where a virtual particle carries the load of both walls at one
+  // point: 0.934 / 0.965 (measured 2026-12-02).
   // Each half of the tank carries one side wall's push and half the weight.
   EXPECT_NEAR(-avg.at("left.fx") / sideForce, 1.0, 0.02);
   EXPECT_NEAR(avg.at("right.fx") / sideForce, 1.0, 0.02);
