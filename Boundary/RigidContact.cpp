@@ -123,71 +123,95 @@ std::vector<RigidContact::Overlap> RigidContact::overlaps(const std::vector<Rigi
   return found;
 }
 
+// The velocities, impulses and effective masses one step's contacts are solved with: the
+// bodies' world inverse inertias taken once, before the sweeps change their velocities.
+class RigidContact::ImpulseSolver {
+ public:
+  ImpulseSolver(std::vector<RigidBody>& bodies, const std::vector<char>& solvable, const BoundarySamples& samples, Real dt)
+      : bodies_(bodies), solvable_(solvable), samples_(samples), dt_(dt), invInertia_(bodies.size()) {
+    for (std::size_t b = 0; b < bodies.size(); ++b) invInertia_[b] = bodies[b].invInertiaWorld();
+  }
+
+  // Normal impulse: the closing speed allowed is the gap left (>= 0), or a bounded push-out speed
+  // once overlapping: a fraction of the overlap per step, and never faster than kMaxPushOutSpeed,
+  // so a deep overlap (bodies drawn into each other) comes apart gently instead of at overlap / dt.
+  void solveNormal(Contact& c) {
+    const Real target = c.gap >= 0 ? -c.gap / dt_ : std::min(-kPushOutRate * c.gap / dt_, kMaxPushOutSpeed);
+    const Real updated =
+        std::max(c.impulse + (target - relativeVelocity(c).dot(c.normal)) / inverseMassAlong(c, c.normal), Real(0));
+    const Real delta = updated - c.impulse;
+    c.impulse = updated;
+    if (delta != 0) applyImpulse(c, delta * c.normal);
+  }
+
+  // Friction: the impulse that stops the tangential slip, then back into the Coulomb cone.
+  void solveFriction(Contact& c) {
+    if (c.friction <= 0 || (c.impulse == 0 && c.tangentImpulse == Vector3r::Zero())) return;
+    const Vector3r now = relativeVelocity(c);
+    const Vector3r slip = now - now.dot(c.normal) * c.normal;
+    const Real slipSpeed = slip.norm();
+    Vector3r tangentImpulse = c.tangentImpulse;
+    if (slipSpeed > 0) {
+      const Vector3r t = slip / slipSpeed;
+      tangentImpulse -= (slipSpeed / inverseMassAlong(c, t)) * t;
+    }
+    const Real limit = c.friction * c.impulse, magnitude = tangentImpulse.norm();
+    if (magnitude > limit) tangentImpulse *= limit / magnitude;
+    const Vector3r change = tangentImpulse - c.tangentImpulse;
+    c.tangentImpulse = tangentImpulse;
+    if (change != Vector3r::Zero()) applyImpulse(c, change);
+  }
+
+ private:
+  bool freeOther(const Contact& c) const { return c.other != kNone && solvable_[c.other]; }
+  Vector3r velocityAt(Index body, Index sample) const {
+    if (body == kNone) return samples_.velocities[sample];  // static: zero; kinematic: its own
+    return bodies_[body].velocityAt(samples_.positions[sample]);
+  }
+  // Velocity of body a at sample k relative to the other object at sample l.
+  Vector3r relativeVelocity(const Contact& c) const {
+    return bodies_[c.body].velocityAt(samples_.positions[c.k]) - velocityAt(c.other, c.l);
+  }
+  // An impulse J on body a at sample k (and -J on the other body at sample l, when it is free).
+  void applyImpulse(const Contact& c, const Vector3r& J) {
+    RigidBody& a = bodies_[c.body];
+    a.v += J / a.mass;
+    a.w += invInertia_[c.body] * (samples_.positions[c.k] - a.x).cross(J);
+    if (freeOther(c)) {
+      RigidBody& o = bodies_[c.other];
+      o.v -= J / o.mass;
+      o.w -= invInertia_[c.other] * (samples_.positions[c.l] - o.x).cross(J);
+    }
+  }
+  // The change of the relative velocity along unit d per unit impulse along d.
+  Real inverseMassAlong(const Contact& c, const Vector3r& d) const {
+    const RigidBody& a = bodies_[c.body];
+    const Vector3r raXd = (samples_.positions[c.k] - a.x).cross(d);
+    Real inverse = 1 / a.mass + raXd.dot(invInertia_[c.body] * raXd);
+    if (freeOther(c)) {
+      const RigidBody& o = bodies_[c.other];
+      const Vector3r rbXd = (samples_.positions[c.l] - o.x).cross(d);
+      inverse += 1 / o.mass + rbXd.dot(invInertia_[c.other] * rbXd);
+    }
+    return inverse;
+  }
+
+  std::vector<RigidBody>& bodies_;
+  const std::vector<char>& solvable_;
+  const BoundarySamples& samples_;
+  const Real dt_;
+  std::vector<Matrix3r> invInertia_;
+};
+
 std::size_t RigidContact::solve(std::vector<RigidBody>& bodies, const std::vector<char>& solvable,
                                 const std::vector<Index>& bodyOfObject, const BoundarySamples& samples, Real dt) {
   std::vector<Contact> contacts = findContacts(bodies, solvable, bodyOfObject, samples);
   if (contacts.empty()) return 0;
-
-  std::vector<Matrix3r> invInertia(bodies.size());
-  for (std::size_t b = 0; b < bodies.size(); ++b) invInertia[b] = bodies[b].invInertiaWorld();
-  auto velocityAt = [&](Index body, Index sample) -> Vector3r {
-    if (body == kNone) return samples.velocities[sample];  // static: zero; kinematic: its own
-    return bodies[body].velocityAt(samples.positions[sample]);
-  };
-  // Velocity of body a at sample k relative to the other object at sample l.
-  auto relativeVelocity = [&](const Contact& c) -> Vector3r {
-    return bodies[c.body].velocityAt(samples.positions[c.k]) - velocityAt(c.other, c.l);
-  };
-  // An impulse J on body a at sample k (and -J on the other body at sample l, when it is free).
-  auto applyImpulse = [&](const Contact& c, const Vector3r& J) {
-    RigidBody& a = bodies[c.body];
-    a.v += J / a.mass;
-    a.w += invInertia[c.body] * (samples.positions[c.k] - a.x).cross(J);
-    if (c.other != kNone && solvable[c.other]) {
-      RigidBody& o = bodies[c.other];
-      o.v -= J / o.mass;
-      o.w -= invInertia[c.other] * (samples.positions[c.l] - o.x).cross(J);
-    }
-  };
-  // The change of the relative velocity along unit d per unit impulse along d.
-  auto inverseMassAlong = [&](const Contact& c, const Vector3r& d) {
-    const RigidBody& a = bodies[c.body];
-    const Vector3r raXd = (samples.positions[c.k] - a.x).cross(d);
-    Real inverse = 1 / a.mass + raXd.dot(invInertia[c.body] * raXd);
-    if (c.other != kNone && solvable[c.other]) {
-      const RigidBody& o = bodies[c.other];
-      const Vector3r rbXd = (samples.positions[c.l] - o.x).cross(d);
-      inverse += 1 / o.mass + rbXd.dot(invInertia[c.other] * rbXd);
-    }
-    return inverse;
-  };
+  ImpulseSolver solver(bodies, solvable, samples, dt);
   for (int it = 0; it < kIterations; ++it)
     for (Contact& c : contacts) {
-      const Vector3r relative = relativeVelocity(c);
-      // Closing speed allowed: the gap left (>= 0), or a bounded push-out speed once overlapping:
-      // a fraction of the overlap per step, and never faster than kMaxPushOutSpeed, so a deep
-      // overlap (bodies drawn into each other) comes apart gently instead of at overlap / dt.
-      const Real target = c.gap >= 0 ? -c.gap / dt : std::min(-kPushOutRate * c.gap / dt, kMaxPushOutSpeed);
-      const Real updated =
-          std::max(c.impulse + (target - relative.dot(c.normal)) / inverseMassAlong(c, c.normal), Real(0));
-      const Real delta = updated - c.impulse;
-      c.impulse = updated;
-      if (delta != 0) applyImpulse(c, delta * c.normal);
-      if (c.friction <= 0 || (c.impulse == 0 && c.tangentImpulse == Vector3r::Zero())) continue;
-      // Friction: the impulse that stops the tangential slip, then back into the cone.
-      const Vector3r now = relativeVelocity(c);
-      const Vector3r slip = now - now.dot(c.normal) * c.normal;
-      const Real slipSpeed = slip.norm();
-      Vector3r tangentImpulse = c.tangentImpulse;
-      if (slipSpeed > 0) {
-        const Vector3r t = slip / slipSpeed;
-        tangentImpulse -= (slipSpeed / inverseMassAlong(c, t)) * t;
-      }
-      const Real limit = c.friction * c.impulse, magnitude = tangentImpulse.norm();
-      if (magnitude > limit) tangentImpulse *= limit / magnitude;
-      const Vector3r change = tangentImpulse - c.tangentImpulse;
-      c.tangentImpulse = tangentImpulse;
-      if (change != Vector3r::Zero()) applyImpulse(c, change);
+      solver.solveNormal(c);
+      solver.solveFriction(c);
     }
   return contacts.size();
 }

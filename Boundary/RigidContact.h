@@ -58,6 +58,7 @@ class RigidContact {
     Real impulse = 0;   // accumulated normal impulse
     Vector3r tangentImpulse = Vector3r::Zero();  // accumulated friction impulse
   };
+  class ImpulseSolver;  // the sequential-impulse sweeps over one step's contacts (RigidContact.cpp)
   // Contacts of the bodies with solvable[b]: their samples within reach of another object.
   std::vector<Contact> findContacts(const std::vector<RigidBody>& bodies, const std::vector<char>& solvable,
                                     const std::vector<Index>& bodyOfObject, const BoundarySamples& samples);

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/AxisAlignedBox.h"
 #include "Utilities/ParallelFor.h"
 #include "Utilities/Timer.h"
 
@@ -166,14 +167,13 @@ Vector3r VolumeMapBoundary_Bender2019::impulseInBox(Index k, const Vector3r& x, 
   const Real reach = 2 * kernel_.supportRadius();
   if ((x - lo).minCoeff() >= reach && (hi - x).minCoeff() >= reach) return impulse;
   if ((lo - x).cwiseMax(x - hi).cwiseMax(Vector3r::Zero()).squaredNorm() > reach * reach) return Vector3r::Zero();
-  auto inBox = [&](const Vector3r& p) { return (p - lo).minCoeff() >= 0 && (hi - p).minCoeff() >= 0; };
-  const bool sampleInside = inBox(samples_.positions[k]);
+  const bool sampleInside = insideBox(samples_.positions[k], lo, hi);
   const std::size_t o = samples_.bodies[k];
   const ObjectPose& pose = poses_[o];
   const Vector3r xq = moving_[o] ? pose.toInitial(x) : x;  // the map's frame
   Matrix3r whole, part;
   maps_[o]->normalMoments(xq, kernel_, [&](const Vector3r& foot) {
-    return inBox(moving_[o] ? Vector3r(pose.centre + pose.rotation * (foot - pose.initialCentre)) : foot);
+    return insideBox(moving_[o] ? Vector3r(pose.centre + pose.rotation * (foot - pose.initialCentre)) : foot, lo, hi);
   }, whole, part);
   // J's components along the surface normals it meets, M M^+ J (M^+ the pseudo-inverse: a flat
   // wall's M has rank 1), are shared out as the moments are, M_part M^+ J; what is left of J

@@ -9,6 +9,7 @@
 #include "Simulation/FluidModel.h"
 #include "Simulation/NeighborSearch.h"
 #include "Simulation/ResourceEstimate.h"
+#include "Utilities/AxisAlignedBox.h"
 #include "Utilities/TriangleMesh.h"
 
 namespace consph {
@@ -84,8 +85,7 @@ class BoundaryModel {
   // the sample lies in the box, none elsewhere. Volume maps split a virtual particle's load
   // over the surface it stands for.
   virtual Vector3r impulseInBox(Index k, const Vector3r& x, const Vector3r& impulse, const Vector3r& lo, const Vector3r& hi) const {
-    const Vector3r& xk = samples_.positions[k];
-    return (xk - lo).minCoeff() >= 0 && (hi - xk).minCoeff() >= 0 ? impulse : Vector3r::Zero();
+    return insideBox(samples_.positions[k], lo, hi) ? impulse : Vector3r::Zero();
   }
   // Samples moved (a moving body): the model must rebuild its acceleration structure.
   void markMoved() { moved_ = true; }

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "Simulation/JsonLimits.h"
 #include "Simulation/MeshVolumeSampling.h"
@@ -18,12 +19,18 @@
 
 namespace consph {
 
+namespace {
+// The scene's names of the treatments, written once: the parser, the summary and the warnings read them.
+constexpr std::pair<BoundaryPressure, const char*> kBoundaryPressureNames[] = {
+    {BoundaryPressure::Consistent, "consistent"},
+    {BoundaryPressure::Mirroring, "mirroring"},
+    {BoundaryPressure::Extrapolation, "extrapolation"},
+};
+}  // namespace
+
 const char* boundaryPressureName(BoundaryPressure b) {
-  switch (b) {
-    case BoundaryPressure::Consistent: return "consistent";
-    case BoundaryPressure::Mirroring: return "mirroring";
-    case BoundaryPressure::Extrapolation: return "extrapolation";
-  }
+  for (const auto& [value, name] : kBoundaryPressureNames)
+    if (value == b) return name;
   return "?";
 }
 
@@ -373,19 +380,16 @@ EmitterDescription parseEmitter(const json& e, const std::string& path, const Lo
   return d;
 }
 
-}  // namespace
+// "auto" and the treatments' names, the choices simulation.boundaryPressure accepts.
+std::vector<std::string> boundaryPressureChoices() {
+  std::vector<std::string> names{"auto"};
+  for (const auto& entry : kBoundaryPressureNames) names.push_back(entry.second);
+  return names;
+}
 
-SceneDescription parseScene(const json& scene, const std::string& baseDir, const LogSink& log) {
-  if (!scene.is_object()) throw InputError("scene: expected a JSON object at the top level");
-  SceneDescription s;
-  s.raw = scene;
-  s.baseDir = baseDir;
-  Params top(scene, "",
-             {{"name", ParamType::String, "", "name of the scene (the summary's \"scene\")"},
-              {"description", ParamType::String, "", "free text"}},
-             log, {"simulation", "fluids", "boundaries", "probes", "output"});
-
-  // simulation
+// "simulation": the step, the resolution and the plugins' choice (their parameters are read by
+// the plugins themselves when the simulation is built).
+void parseSimulationSection(const json& scene, const LogSink& log, SceneDescription& s) {
   const json& sim = child(scene, "", "simulation", "an object");
   if (!sim.is_null()) expectObject(sim, "simulation");
   Params sp(sim, "simulation",
@@ -406,8 +410,7 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
              {"iterationCapSteps", ParamType::Int, 100, "stop when the pressure solver hits its iteration cap this many steps in a row", 1, 1e9},
              {"boundaryPressure", ParamType::String, "auto",
               "boundary neighbours in the pressure solve (auto: extrapolation with sampled walls, consistent with volume maps)",
-              -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-              {"auto", "consistent", "mirroring", "extrapolation"}}},
+              -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), boundaryPressureChoices()}},
             log, {"pressureSolver", "boundaryModel", "domain"});
   s.particleRadius = sp.real("particleRadius");
   s.gravity = sp.vector3("gravity");
@@ -424,9 +427,9 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
   s.maxParticles = sp.real("maxParticles");
   const std::string bp = sp.string("boundaryPressure");
   s.boundaryPressureAuto = bp == "auto";
-  s.boundaryPressure = bp == "mirroring" ? BoundaryPressure::Mirroring
-                       : bp == "extrapolation" ? BoundaryPressure::Extrapolation
-                                               : BoundaryPressure::Consistent;
+  s.boundaryPressure = BoundaryPressure::Consistent;  // "auto" is resolved when the boundary model is known
+  for (const auto& [value, name] : kBoundaryPressureNames)
+    if (bp == name) s.boundaryPressure = value;
   s.pressureSolver = child(sim, "simulation", "pressureSolver", "an object or a plugin name");
   if (s.pressureSolver.is_null()) s.pressureSolver = {{"type", "DFSPH"}};
   if (s.pressureSolver.is_string()) s.pressureSolver = {{"type", s.pressureSolver}};
@@ -448,96 +451,115 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
     s.domainMax = dp.vector3("max");
     if ((s.domainMax - s.domainMin).minCoeff() <= 0) throw InputError("simulation.domain: max must exceed min on every axis");
   }
+}
 
-  // fluids
+// fluids[].forces: objects with a "type", each type once (their parameters are the plugins').
+json parseForceList(const json& fluid, const std::string& path) {
+  json forces = child(fluid, path, "forces", "an array of force objects");
+  if (forces.is_null()) forces = json::array();
+  if (!forces.is_array()) throw InputError(path + ".forces: expected an array of force objects");
+  for (std::size_t i = 0; i < forces.size(); ++i) {
+    const std::string fpth = path + ".forces[" + std::to_string(i) + "]";
+    expectObject(forces[i], fpth);
+    if (!forces[i].contains("type") || !forces[i]["type"].is_string()) throw InputError(fpth + ".type: required string is missing");
+    // One force of each type: a second instance would share the first's particle fields
+    // (ParticleFields::add hands out the field of that name), each overwriting the other's state.
+    const std::string type = forces[i]["type"].get<std::string>();
+    for (std::size_t k = 0; k < i; ++k)
+      if (lowerCase(forces[k]["type"].get<std::string>()) == lowerCase(type))
+        throw InputError(fpth + ": a second " + type + " (" + path + ".forces[" + std::to_string(k) +
+                         "] is one): give each force once, with the coefficients it needs");
+  }
+  return forces;
+}
+
+// fluids[].blocks[b], refused where it overlaps an earlier block of the same fluid.
+FluidBlock parseBlock(const json& blockJson, const std::string& path, std::size_t b, const std::vector<FluidBlock>& earlier,
+                      const LogSink& log) {
+  const std::string bpth = path + ".blocks[" + std::to_string(b) + "]";
+  Params bp2(blockJson, bpth,
+             {{"min", ParamType::Vector3, json(), "lower corner, m"},
+              {"max", ParamType::Vector3, json(), "upper corner, m"},
+              {"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity, m/s"},
+              {"lattice", ParamType::String, "cellCentred",
+               "lattice the block is filled on: cellCentred (particleSpacing r) or SPlisHSPlasH's denseMode 0, 1, 2 "
+               "(splishsplashRegular: 2r grid, splishsplashMoreDense, splishsplashDense)",
+               -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+               std::vector<std::string>(blockLatticeNames().begin(), blockLatticeNames().end())}},
+             log, {});
+  FluidBlock block{bp2.vector3("min"), bp2.vector3("max"), bp2.vector3("velocity"), blockLatticeFromName(bp2.string("lattice"))};
+  if ((block.max - block.min).minCoeff() <= 0) throw InputError(bpth + ": max must exceed min on every axis");
+  for (std::size_t e = 0; e < earlier.size(); ++e)
+    if ((block.max.cwiseMin(earlier[e].max) - block.min.cwiseMax(earlier[e].min)).minCoeff() > 0)
+      throw InputError(bpth + ": overlaps " + path + ".blocks[" + std::to_string(e) + "]: their particles would lie on top of each other");
+  return block;
+}
+
+// fluids[f]: its name and density, forces, emitters, removal box, particle files, mesh volumes and
+// blocks (spacing and radius: the lattice the mesh volumes are filled on).
+FluidDescription parseFluid(const json& fluid, const std::string& path, const std::string& baseDir, Real spacing, Real radius,
+                            const LogSink& log) {
+  expectObject(fluid, path);
+  Params fp(fluid, path,
+            {{"name", ParamType::String, "fluid", "name of the fluid (output files, Python)"},
+             {"density0", ParamType::Real, 1000.0, "rest density rho0, kg/m^3", 1e-3, 1e6}},
+            log, {"forces", "blocks", "emitters", "removeOutside", "particleFiles", "meshVolumes"});
+  FluidDescription fd;
+  fd.name = fp.string("name");
+  checkFileName(fd.name, fp.pathOf("name"));
+  fd.density0 = fp.real("density0");
+  fd.path = path;
+  fd.forces = parseForceList(fluid, path);
+  const json& blocks = child(fluid, path, "blocks", "an array of blocks");
+  const json& emitters = child(fluid, path, "emitters", "an array of emitters");
+  if (!emitters.is_null() && !emitters.is_array()) throw InputError(path + ".emitters: expected an array of emitters");
+  // Two equal sources (emitters, particle files, mesh volumes) or overlapping blocks would put
+  // particles on top of each other: the fluid would start at twice its rest density there.
+  auto checkDistinct = [&](const json& list, std::size_t i, const std::string& key) {
+    if (const std::size_t k = earlierEqual(list, i); k != std::string::npos)
+      throw InputError(path + "." + key + "[" + std::to_string(i) + "]: the same as " + path + "." + key + "[" + std::to_string(k) +
+                       "]: their particles would lie on top of each other");
+  };
+  for (std::size_t e = 0; e < emitters.size(); ++e) {
+    fd.emitters.push_back(parseEmitter(emitters[e], path + ".emitters[" + std::to_string(e) + "]", log));
+    checkDistinct(emitters, e, "emitters");
+  }
+  if (const json& ro = child(fluid, path, "removeOutside", "an object"); !ro.is_null()) {
+    Params rp(ro, path + ".removeOutside",
+              {{"min", ParamType::Vector3, json(), "lower corner, m"}, {"max", ParamType::Vector3, json(), "upper corner, m"}}, log, {});
+    fd.removeOutside = true;
+    fd.removeMin = rp.vector3("min");
+    fd.removeMax = rp.vector3("max");
+    if ((fd.removeMax - fd.removeMin).minCoeff() <= 0) throw InputError(path + ".removeOutside: max must exceed min on every axis");
+  }
+  for (const char* key : {"particleFiles", "meshVolumes"}) {
+    const json& list = child(fluid, path, key, "an array");
+    if (!list.is_null() && !list.is_array()) throw InputError(path + "." + key + ": expected an array");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string ipath = path + "." + key + "[" + std::to_string(i) + "]";
+      if (std::string(key) == "particleFiles") parseParticleFile(list[i], ipath, baseDir, log, fd);
+      else parseMeshVolume(list[i], ipath, baseDir, spacing, radius, log, fd);
+      checkDistinct(list, i, key);
+    }
+  }
+  if (!blocks.is_null() && !blocks.is_array()) throw InputError(path + ".blocks: expected an array of blocks");
+  if (blocks.empty() && fd.emitters.empty() && fd.sourcePositions.empty())
+    throw InputError(path + ".blocks: expected a non-empty array of blocks (or emitters, particleFiles, meshVolumes)");
+  for (std::size_t b = 0; b < blocks.size(); ++b) fd.blocks.push_back(parseBlock(blocks[b], path, b, fd.blocks, log));
+  return fd;
+}
+
+void parseFluids(const json& scene, const std::string& baseDir, const LogSink& log, SceneDescription& s) {
   const json& fluids = child(scene, "", "fluids", "a non-empty array of fluids");
   if (!fluids.is_array() || fluids.empty()) throw InputError("fluids: expected a non-empty array of fluids");
   if (fluids.size() > 1) throw InputError("fluids: only one fluid per scene is supported in this version");
-  for (std::size_t f = 0; f < fluids.size(); ++f) {
-    const std::string path = "fluids[" + std::to_string(f) + "]";
-    expectObject(fluids[f], path);
-    Params fp(fluids[f], path,
-              {{"name", ParamType::String, "fluid", "name of the fluid (output files, Python)"},
-               {"density0", ParamType::Real, 1000.0, "rest density rho0, kg/m^3", 1e-3, 1e6}},
-              log, {"forces", "blocks", "emitters", "removeOutside", "particleFiles", "meshVolumes"});
-    FluidDescription fd;
-    fd.name = fp.string("name");
-    checkFileName(fd.name, fp.pathOf("name"));
-    fd.density0 = fp.real("density0");
-    fd.path = path;
-    fd.forces = child(fluids[f], path, "forces", "an array of force objects");
-    if (fd.forces.is_null()) fd.forces = json::array();
-    if (!fd.forces.is_array()) throw InputError(path + ".forces: expected an array of force objects");
-    for (std::size_t i = 0; i < fd.forces.size(); ++i) {
-      const std::string fpth = path + ".forces[" + std::to_string(i) + "]";
-      expectObject(fd.forces[i], fpth);
-      if (!fd.forces[i].contains("type") || !fd.forces[i]["type"].is_string()) throw InputError(fpth + ".type: required string is missing");
-      // One force of each type: a second instance would share the first's particle fields
-      // (ParticleFields::add hands out the field of that name), each overwriting the other's state.
-      const std::string type = fd.forces[i]["type"].get<std::string>();
-      for (std::size_t k = 0; k < i; ++k)
-        if (lowerCase(fd.forces[k]["type"].get<std::string>()) == lowerCase(type))
-          throw InputError(fpth + ": a second " + type + " (" + path + ".forces[" + std::to_string(k) +
-                           "] is one): give each force once, with the coefficients it needs");
-    }
-    const json& blocks = child(fluids[f], path, "blocks", "an array of blocks");
-    const json& emitters = child(fluids[f], path, "emitters", "an array of emitters");
-    if (!emitters.is_null() && !emitters.is_array()) throw InputError(path + ".emitters: expected an array of emitters");
-    // Two equal sources (emitters, particle files, mesh volumes) or overlapping blocks would put
-    // particles on top of each other: the fluid would start at twice its rest density there.
-    auto checkDistinct = [&](const json& list, std::size_t i, const std::string& key) {
-      if (const std::size_t k = earlierEqual(list, i); k != std::string::npos)
-        throw InputError(path + "." + key + "[" + std::to_string(i) + "]: the same as " + path + "." + key + "[" + std::to_string(k) +
-                         "]: their particles would lie on top of each other");
-    };
-    for (std::size_t e = 0; e < emitters.size(); ++e) {
-      fd.emitters.push_back(parseEmitter(emitters[e], path + ".emitters[" + std::to_string(e) + "]", log));
-      checkDistinct(emitters, e, "emitters");
-    }
-    if (const json& ro = child(fluids[f], path, "removeOutside", "an object"); !ro.is_null()) {
-      Params rp(ro, path + ".removeOutside",
-                {{"min", ParamType::Vector3, json(), "lower corner, m"}, {"max", ParamType::Vector3, json(), "upper corner, m"}}, log, {});
-      fd.removeOutside = true;
-      fd.removeMin = rp.vector3("min");
-      fd.removeMax = rp.vector3("max");
-      if ((fd.removeMax - fd.removeMin).minCoeff() <= 0) throw InputError(path + ".removeOutside: max must exceed min on every axis");
-    }
-    for (const char* key : {"particleFiles", "meshVolumes"}) {
-      const json& list = child(fluids[f], path, key, "an array");
-      if (!list.is_null() && !list.is_array()) throw InputError(path + "." + key + ": expected an array");
-      for (std::size_t i = 0; i < list.size(); ++i) {
-        const std::string ipath = path + "." + key + "[" + std::to_string(i) + "]";
-        if (std::string(key) == "particleFiles") parseParticleFile(list[i], ipath, baseDir, log, fd);
-        else parseMeshVolume(list[i], ipath, baseDir, s.particleSpacing * s.particleRadius, s.particleRadius, log, fd);
-        checkDistinct(list, i, key);
-      }
-    }
-    if (!blocks.is_null() && !blocks.is_array()) throw InputError(path + ".blocks: expected an array of blocks");
-    if (blocks.empty() && fd.emitters.empty() && fd.sourcePositions.empty())
-      throw InputError(path + ".blocks: expected a non-empty array of blocks (or emitters, particleFiles, meshVolumes)");
-    for (std::size_t b = 0; b < blocks.size(); ++b) {
-      const std::string bpth = path + ".blocks[" + std::to_string(b) + "]";
-      Params bp2(blocks[b], bpth,
-                 {{"min", ParamType::Vector3, json(), "lower corner, m"},
-                  {"max", ParamType::Vector3, json(), "upper corner, m"},
-                  {"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity, m/s"},
-                  {"lattice", ParamType::String, "cellCentred",
-                   "lattice the block is filled on: cellCentred (particleSpacing r) or SPlisHSPlasH's denseMode 0, 1, 2 "
-                   "(splishsplashRegular: 2r grid, splishsplashMoreDense, splishsplashDense)",
-                   -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-                   std::vector<std::string>(blockLatticeNames().begin(), blockLatticeNames().end())}},
-                 log, {});
-      FluidBlock block{bp2.vector3("min"), bp2.vector3("max"), bp2.vector3("velocity"), blockLatticeFromName(bp2.string("lattice"))};
-      if ((block.max - block.min).minCoeff() <= 0) throw InputError(bpth + ": max must exceed min on every axis");
-      for (std::size_t e = 0; e < fd.blocks.size(); ++e)
-        if ((block.max.cwiseMin(fd.blocks[e].max) - block.min.cwiseMax(fd.blocks[e].min)).minCoeff() > 0)
-          throw InputError(bpth + ": overlaps " + path + ".blocks[" + std::to_string(e) + "]: their particles would lie on top of each other");
-      fd.blocks.push_back(block);
-    }
-    s.fluids.push_back(std::move(fd));
-  }
+  for (std::size_t f = 0; f < fluids.size(); ++f)
+    s.fluids.push_back(parseFluid(fluids[f], "fluids[" + std::to_string(f) + "]", baseDir, s.particleSpacing * s.particleRadius,
+                                  s.particleRadius, log));
+}
 
-  // boundaries
+// "boundaries": each object, with the names force probes and bodies.csv tell them by unique.
+void parseBoundaries(const json& scene, const std::string& baseDir, const LogSink& log, SceneDescription& s) {
   const json& boundaries = child(scene, "", "boundaries", "an array");
   if (!boundaries.is_null() && !boundaries.is_array()) throw InputError("boundaries: expected an array");
   for (std::size_t b = 0; b < boundaries.size(); ++b) {
@@ -554,7 +576,11 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
       throw InputError(path + ": the same object as boundaries[" + std::to_string(e) + "] (equal but for the name): coincident walls or bodies");
   }
 
-  // output
+}
+
+// "output": frames, probes.csv's rate, checkpoints and the particle fields written.
+OutputSettings parseOutput(const json& scene, const LogSink& log) {
+  OutputSettings output;
   const json& out = child(scene, "", "output", "an object");
   constexpr double inf = std::numeric_limits<double>::infinity();
   Params op(out, "output",
@@ -571,33 +597,50 @@ SceneDescription parseScene(const json& scene, const std::string& baseDir, const
               "(transforms for bgeo, meshes otherwise)", -inf, inf, {"auto", "meshes", "transforms"}},
              {"checkpointInterval", ParamType::Real, 0.0, "simulated seconds between checkpoints (0: none)", 0, 1e9}},
             log, {"attributes"});
-  s.output.enabled = op.boolean("enabled");
-  s.output.directory = op.string("directory");
-  if (s.output.directory.empty() || !printableUtf8(s.output.directory))
+  output.enabled = op.boolean("enabled");
+  output.directory = op.string("directory");
+  if (output.directory.empty() || !printableUtf8(output.directory))
     throw InputError("output.directory: must name a folder (non-empty printable UTF-8 text)");
-  s.output.fps = op.real("fps");
-  s.output.probeFps = op.real("probeFps");
-  s.output.overwrite = op.boolean("overwrite");
-  s.output.format = frameFormatFromName(op.string("format"));
-  s.output.precision = op.string("precision") == "double" ? FramePrecision::Double : FramePrecision::Float;
+  output.fps = op.real("fps");
+  output.probeFps = op.real("probeFps");
+  output.overwrite = op.boolean("overwrite");
+  output.format = frameFormatFromName(op.string("format"));
+  output.precision = op.string("precision") == "double" ? FramePrecision::Double : FramePrecision::Float;
   const std::string bodies = op.string("bodies");
-  s.output.bodies = bodies == "meshes" || (bodies == "auto" && s.output.format != FrameFormat::Bgeo) ? BodyFrames::Meshes
+  output.bodies = bodies == "meshes" || (bodies == "auto" && output.format != FrameFormat::Bgeo) ? BodyFrames::Meshes
                                                                                                    : BodyFrames::Transforms;
-  if (s.output.format == FrameFormat::Bgeo && s.output.precision == FramePrecision::Double)
+  if (output.format == FrameFormat::Bgeo && output.precision == FramePrecision::Double)
     throw InputError("output.precision: \"double\" is not available with \"format\": \"bgeo\" (classic BGEO stores float32 only)");
-  if (s.output.format == FrameFormat::Bgeo && s.output.bodies == BodyFrames::Meshes)
+  if (output.format == FrameFormat::Bgeo && output.bodies == BodyFrames::Meshes)
     throw InputError("output.bodies: \"meshes\" is not available with \"format\": \"bgeo\" (points only); use \"transforms\"");
-  s.output.checkpointInterval = op.real("checkpointInterval");
+  output.checkpointInterval = op.real("checkpointInterval");
   // The fields are registered when the simulation is built: it checks the names (checkAttributes).
   if (out.is_object() && out.contains("attributes")) {
     const json& a = out["attributes"];
     if (!a.is_array()) throw InputError("output.attributes: expected an array of particle field names");
     for (std::size_t i = 0; i < a.size(); ++i) {
       if (!a[i].is_string()) throw InputError("output.attributes[" + std::to_string(i) + "]: expected a particle field name (a string)");
-      s.output.attributes.push_back(a[i].get<std::string>());
+      output.attributes.push_back(a[i].get<std::string>());
     }
   }
+  return output;
+}
 
+}  // namespace
+
+SceneDescription parseScene(const json& scene, const std::string& baseDir, const LogSink& log) {
+  if (!scene.is_object()) throw InputError("scene: expected a JSON object at the top level");
+  SceneDescription s;
+  s.raw = scene;
+  s.baseDir = baseDir;
+  Params top(scene, "",
+             {{"name", ParamType::String, "", "name of the scene (the summary's \"scene\")"},
+              {"description", ParamType::String, "", "free text"}},
+             log, {"simulation", "fluids", "boundaries", "probes", "output"});
+  parseSimulationSection(scene, log, s);
+  parseFluids(scene, baseDir, log, s);
+  parseBoundaries(scene, baseDir, log, s);
+  s.output = parseOutput(scene, log);
   // probes (resolved against the boundaries when the simulation is built)
   s.probes = parseProbes(child(scene, "", "probes", "an array of probe objects"), log);
   return s;

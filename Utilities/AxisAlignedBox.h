@@ -1,0 +1,12 @@
+// The one test of a point against an axis-aligned box [lo, hi], faces included, that force-probe
+// regions, fluid removal boxes and the volume maps' load split share.
+#pragma once
+#include "Utilities/Types.h"
+
+namespace consph {
+
+inline bool insideBox(const Vector3r& p, const Vector3r& lo, const Vector3r& hi) {
+  return (p - lo).minCoeff() >= 0 && (hi - p).minCoeff() >= 0;
+}
+
+}  // namespace consph
