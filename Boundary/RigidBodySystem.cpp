@@ -318,9 +318,18 @@ void RigidBodySystem::advanceHinged(RigidBody& b, const HingeDescription& h, con
   b.v = b.w.cross(b.x - h.point);
 }
 
-void RigidBodySystem::updateBoundary(BoundaryModel& model) const {
+bool RigidBodySystem::updateBoundary(BoundaryModel& model, bool onlyChanged) {
   BoundarySamples& samples = model.samples();
-  for (const RigidBody& b : bodies_) {
+  written_.resize(bodies_.size());
+  bool moved = false;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const RigidBody& b = bodies_[i];
+    const WrittenState now{b.x, b.v, b.w, b.q};
+    // Exact comparison: any change at all is written (a body at rest repeats its state bit for bit).
+    const bool samePose = onlyChanged && written_[i].x == now.x && written_[i].q.coeffs() == now.q.coeffs();
+    if (samePose && written_[i].v == now.v && written_[i].w == now.w) continue;
+    written_[i] = now;
+    moved = moved || !samePose;
     model.setPose(b.object, b.pose());
     const Matrix3r R = b.rotation();
     parallelFor(b.samples.size(), [&](std::size_t s) {
@@ -329,6 +338,7 @@ void RigidBodySystem::updateBoundary(BoundaryModel& model) const {
       samples.velocities[k] = b.velocityAt(samples.positions[k]);
     });
   }
+  return moved;
 }
 
 Vector3r RigidBodySystem::momentum() const {

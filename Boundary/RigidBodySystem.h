@@ -4,6 +4,7 @@
 // accumulators, no atomics), integrates the bodies and moves their boundary samples, which carry
 // the body's velocity into the next pressure solve.
 #pragma once
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -69,7 +70,10 @@ class RigidBodySystem : public BodyResponse {
   }
   // Positions and velocities of the moving bodies' samples from the bodies' state, and each
   // moving object's pose for the boundary model (an implicit one moves its maps with it).
-  void updateBoundary(BoundaryModel& model) const;
+  // `onlyChanged`: skip the bodies whose state is the one written last time (an animated body at
+  // rest costs nothing per step). Returns whether a sample moved, i.e. whether the boundary
+  // model's neighbour structure must be rebuilt (BoundaryModel::markMoved).
+  bool updateBoundary(BoundaryModel& model, bool onlyChanged = false);
 
   // BodyResponse: the free dynamic bodies' samples move as if the bodies took the impulses so far.
   const std::vector<MovingPair>& movingPairs(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
@@ -124,6 +128,12 @@ class RigidBodySystem : public BodyResponse {
   std::vector<std::vector<Index>> touching_;   // this step's fluid touching each light body
   std::vector<Matrix3r> touchingInertia_;
   std::size_t movingPairsStep_ = ~std::size_t(0), stepsAdvanced_ = 0;
+  // Each body's state as updateBoundary last wrote it to the samples.
+  struct WrittenState {  // NaN until written: unequal to any state
+    Vector3r x = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()), v = x, w = x;
+    Quaternionr q = Quaternionr(x[0], x[0], x[0], x[0]);
+  };
+  std::vector<WrittenState> written_;
   // Calls f(k, body) for every sample k of a free dynamic body.
   template <class F>
   void forEachFreeSample(const BoundarySamples& samples, F&& f) const;

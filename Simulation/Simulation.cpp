@@ -10,6 +10,7 @@
 #include "Simulation/FrameSeries.h"
 #include "Simulation/LeakedParticles.h"
 #include "Simulation/SceneFile.h"
+#include "Utilities/AxisAlignedBox.h"
 #include "Utilities/LineFile.h"
 #include "Utilities/OutputFolder.h"
 #include "Utilities/ParallelFor.h"
@@ -293,8 +294,7 @@ void Simulation::coupleRigidBodies(StepContext& ctx) {
   // fluid force is reported too.
   bodies_->gatherFluidImpulses(boundaryNeighbors_, fluid_->positions, boundaryModel_->samples(), pairImpulses_);
   bodies_->advance(dt_, scene_.gravity, boundaryModel_->samples(), fluid_->positions, fluid_->masses, fluid_->velocities);
-  bodies_->updateBoundary(*boundaryModel_);
-  boundaryModel_->markMoved();
+  if (bodies_->updateBoundary(*boundaryModel_, true)) boundaryModel_->markMoved();
 }
 
 void Simulation::measureWallLoads(StepContext& ctx) {
@@ -313,7 +313,7 @@ void Simulation::removeParticlesOutside() {
   keep.reserve(f.size());
   for (std::size_t i = 0; i < f.size(); ++i) {
     const Vector3r& x = f.positions[i];
-    if ((x - fd.removeMin).minCoeff() >= 0 && (fd.removeMax - x).minCoeff() >= 0) keep.push_back(Index(i));
+    if (insideBox(x, fd.removeMin, fd.removeMax)) keep.push_back(Index(i));
   }
   if (keep.size() == f.size()) return;
   stats_.particlesRemoved += f.size() - keep.size();
