@@ -48,7 +48,8 @@ against wall time, colour = solver, marker = boundary model, the Pareto front dr
 bench/results/pareto.md (the fronts, the cheapest configuration per error level, the feature
 costs), printed as well.
 --cases tank,spheredrop re-measures only those cases (the full sweep's points for them) and keeps
-every other case's points, and the feature costs, from the bench/results files already there.
+every other case's points, and the feature costs, from the bench/results files already there
+("features" in the list re-measures the feature costs).
 Usage: /usr/bin/python3 bench/pareto.py [--quick] [--threads 2] [--build build] [--float-build DIR]
                                         [--cases CASE,...]
 """
@@ -318,10 +319,14 @@ def plot(points, case, metric):
 
 
 def feature_costs(build, threads, reps=3):
-    """ms per step of the n = 12 tank with and without features that do nothing."""
+    """ms per step (and steps) of the n = 12 tank with and without features that do nothing."""
     cfg = {"solver": "DFSPH", "model": "Akinci2012", "treatment": "auto", "tolerance": DEFAULT_TOLERANCE, "precision": "double"}
     base, _ = tank_scene(cfg, RADII["tank"][1])
     base["simulation"]["stopAt"] = 1.0
+    # The same steps in every variant: without a given maxTimeStep the step follows the scene's
+    # speed scale, which an emitter's speed or a body's height raise (a first sweep measured the
+    # emitter and the animated body 23-30 % cheaper per step: smaller steps, fewer iterations).
+    base["simulation"]["maxTimeStep"] = 0.003
     base.pop("probes")
     variants = {"none": base}
     v = json.loads(json.dumps(base))
@@ -341,8 +346,8 @@ def feature_costs(build, threads, reps=3):
     env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, build, "python"), OMP_NUM_THREADS=str(threads))
     code = ("import sys, json, consph; consph.set_num_threads(%d); s = consph.Simulation.from_dict(json.loads(sys.stdin.read())); "
             "s.run(until=0.2); import time; t = time.perf_counter(); n0 = s.step_count; s.run(until=1.0); "
-            "print((time.perf_counter() - t) * 1000 / (s.step_count - n0))") % threads
-    times = {k: [] for k in variants}
+            "print((time.perf_counter() - t) * 1000 / (s.step_count - n0), s.step_count - n0)") % threads
+    times, steps = {k: [] for k in variants}, {}
     for _ in range(reps):
         for name, scene in variants.items():
             res = subprocess.run([sys.executable, "-c", code], input=json.dumps(scene), capture_output=True, text=True, env=env)
@@ -350,8 +355,10 @@ def feature_costs(build, threads, reps=3):
                 times[name].append(float("nan"))
                 print(f"feature cost {name}: {res.stderr.strip().splitlines()[-1:]}", flush=True)
                 continue
-            times[name].append(float(res.stdout.strip().splitlines()[-1]))
-    return times
+            ms, count = res.stdout.strip().splitlines()[-1].split()
+            times[name].append(float(ms))
+            steps[name] = int(count)
+    return times, steps
 
 
 CSV_HEADER = ["case", "solver", "model", "treatment", "tolerance_percent", "precision", "r", "metric", "error_percent",
@@ -389,8 +396,8 @@ def main():
     args = ap.parse_args()
     only = [c for c in args.cases.split(",") if c]
     for c in only:
-        if c not in METRICS:
-            ap.error(f"--cases: unknown case '{c}' (cases: {', '.join(METRICS)})")
+        if c not in METRICS and c != "features":
+            ap.error(f"--cases: unknown case '{c}' (cases: {', '.join(METRICS)}, features)")
     kept = []
     if only:
         old_csv = os.path.join(HERE, "results", "pareto.csv")
@@ -437,10 +444,18 @@ def main():
                             p.get(m, "nan"), p.get("wall", "nan"), p.get("steps", ""), p.get("pressure_iterations", ""),
                             p.get("cap_hits", ""), f"{p['load']:.2f}", p.get("error", "")])
     sweep_line = f"; sweep {'quick' if args.quick else 'full'}, {measured} runs, {minutes:.1f} min."
+    earlier = ""
     if only:
-        sweep_line = (f"; cases {', '.join(only)} re-measured ({measured} runs, {minutes:.1f} min), the other "
+        sweep_line = (f"; re-measured now: {', '.join(only)} ({measured} runs, {minutes:.1f} min); the other "
                       f"{len(kept)} points kept from the earlier pareto.csv.")
+        # The header of the sweep that measured the kept points (carried over re-measurements).
+        with open(os.path.join(HERE, "results", "pareto.md")) as f:
+            md = f.read().splitlines()
+        kept_from = [l for l in md if l.startswith("Points kept from: ")]
+        earlier = kept_from[0] if kept_from else "Points kept from: " + (md[0] if md else "?")
     lines = [header + sweep_line, ""]
+    if earlier:
+        lines += [earlier, ""]
     failed = [p for p in points if "error" in p]
     if failed:
         lines += ["Runs that failed (no point on the plot):", ""]
@@ -466,23 +481,24 @@ def main():
                 else:
                     lines.append(f"| {level} % | none of the sweep | |")
             lines.append("")
-    if only:
+    mark = "### What an unused feature costs"
+    if only and "features" not in only:
         with open(os.path.join(HERE, "results", "pareto.md")) as f:
             old_md = f.read()
-        mark = "### What an unused feature costs"
         if mark in old_md:
             lines += [mark, "", "(measured with the earlier sweep)", old_md[old_md.index(mark) + len(mark):].rstrip("\n"), ""]
     elif not args.quick:
-        costs = feature_costs(args.build, args.threads)
+        costs, steps = feature_costs(args.build, args.threads)
         base = [t for t in costs["none"] if t == t]
-        lines += ["### What an unused feature costs", "",
-                  f"The n = 12 tank, DFSPH defaults, ms per step over 0.2-1 s, {len(base)} interleaved repetitions:", "",
-                  "| scene | ms per step (each repetition) | mean / without |", "|---|---|---|"]
+        lines += [mark, "",
+                  f"The n = 12 tank, DFSPH defaults with maxTimeStep 0.003 s (the same steps in every variant), ms per "
+                  f"step over 0.2-1 s, {len(base)} interleaved repetitions:", "",
+                  "| scene | steps | ms per step (each repetition) | mean / without |", "|---|---|---|---|"]
         mean0 = sum(base) / max(1, len(base))
         for name, ts in costs.items():
             good = [t for t in ts if t == t]
             mean = sum(good) / max(1, len(good))
-            lines.append(f"| {name} | {', '.join(f'{t:.2f}' for t in ts)} | {mean / mean0:.3f} |")
+            lines.append(f"| {name} | {steps.get(name, '')} | {', '.join(f'{t:.2f}' for t in ts)} | {mean / mean0:.3f} |")
         lines.append("")
     text = "\n".join(lines)
     print(text)
