@@ -49,9 +49,10 @@ bench/results/pareto.md (the fronts, the cheapest configuration per error level,
 costs), printed as well.
 --cases tank,spheredrop re-measures only those cases (the full sweep's points for them) and keeps
 every other case's points, and the feature costs, from the bench/results files already there
-("features" in the list re-measures the feature costs).
+("features" in the list re-measures the feature costs); --replot measures nothing and writes the
+plots and tables again from pareto.csv.
 Usage: /usr/bin/python3 bench/pareto.py [--quick] [--threads 2] [--build build] [--float-build DIR]
-                                        [--cases CASE,...]
+                                        [--cases CASE,...] [--replot]
 """
 import argparse
 import csv
@@ -303,12 +304,26 @@ def plot(points, case, metric):
                    facecolors="none" if c["precision"] == "float" else colours[c["solver"]], edgecolors=colours[c["solver"]])
     fr = front(points, metric)
     ax.plot([p["wall"] for p in fr], [max(p[metric], 1e-3) for p in fr], "k-", lw=1, label="Pareto front")
+    # The treatment (and radius) beside each front point, beside every point where there are few:
+    # where consistent, mirroring and extrapolation sit is what the plot is read for.
+    for p in (points if len(points) <= 6 else fr):
+        if metric in p:
+            c = p["cfg"]
+            ax.annotate(f"{c['treatment']} r={p['r']:.3g}" + (" f" if c["precision"] == "float" else ""),
+                        (p["wall"], max(p[metric], 1e-3)), textcoords="offset points", xytext=(4, 3), fontsize=6)
+
     for s, col in colours.items():
         ax.scatter([], [], c=col, marker="o", label=s)
     for m, mk in markers.items():
         ax.scatter([], [], c="gray", marker=mk, label=m)
     ax.set_xscale("log")
     ax.set_yscale("log")
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
+    for axis, values in ((ax.xaxis, [p["wall"] for p in points if metric in p]),
+                         (ax.yaxis, [max(p[metric], 1e-3) for p in points if metric in p])):
+        if values and max(values) < 10 * min(values):  # within a decade: plain tick labels
+            axis.set_major_formatter(ScalarFormatter())
+            axis.set_minor_formatter(ScalarFormatter())
     ax.set_xlabel("wall time of the run, s")
     ax.set_ylabel(f"{metric} error, %")
     ax.set_title(f"{case}: error against run time", fontsize=9)
@@ -392,11 +407,12 @@ def main():
     ap.add_argument("--build", default="build")
     ap.add_argument("--float-build", default="", help="a build folder configured with -DCONSPH_DOUBLE=OFF")
     ap.add_argument("--cases", default="", help="comma-separated cases to re-measure; the rest is kept from pareto.csv")
+    ap.add_argument("--replot", action="store_true", help="measure nothing: the plots and tables again from pareto.csv")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args()
-    only = [c for c in args.cases.split(",") if c]
+    only = ["nothing"] if args.replot else [c for c in args.cases.split(",") if c]
     for c in only:
-        if c not in METRICS and c != "features":
+        if c not in METRICS and c not in ("features", "nothing"):
             ap.error(f"--cases: unknown case '{c}' (cases: {', '.join(METRICS)}, features)")
     kept = []
     if only:
@@ -456,6 +472,12 @@ def main():
     lines = [header + sweep_line, ""]
     if earlier:
         lines += [earlier, ""]
+    if args.replot:  # the earlier header stands: nothing was measured
+        lines = []
+        for l in md:
+            if l.startswith("Runs that failed") or l.startswith("### "):
+                break
+            lines.append(l)
     failed = [p for p in points if "error" in p]
     if failed:
         lines += ["Runs that failed (no point on the plot):", ""]
@@ -486,7 +508,11 @@ def main():
         with open(os.path.join(HERE, "results", "pareto.md")) as f:
             old_md = f.read()
         if mark in old_md:
-            lines += [mark, "", "(measured with the earlier sweep)", old_md[old_md.index(mark) + len(mark):].rstrip("\n"), ""]
+            section = old_md[old_md.index(mark):].rstrip("\n")
+            note = "(measured by an earlier run of this script)"
+            if note not in section and not args.replot:
+                section = section.replace(mark, mark + "\n\n" + note, 1)
+            lines += [section, ""]
     elif not args.quick:
         costs, steps = feature_costs(args.build, args.threads)
         base = [t for t in costs["none"] if t == t]
