@@ -46,7 +46,8 @@ repetitions.
 Output: bench/results/pareto.csv (every point), bench/results/pareto_<case>.png (log-log error
 against wall time, colour = solver, marker = boundary model, the Pareto front drawn),
 bench/results/pareto.md (the fronts, the cheapest configuration per error level, the feature
-costs), printed as well.
+costs), printed as well; --quick writes bench/results/pareto_quick.* instead, so that it never
+overwrites the full sweep's files.
 --cases tank,spheredrop re-measures only those cases (the full sweep's points for them) and keeps
 every other case's points, and the feature costs, from the bench/results files already there
 ("features" in the list re-measures the feature costs); --replot measures nothing and writes the
@@ -289,7 +290,7 @@ def front(points, metric):
     return out
 
 
-def plot(points, case, metric):
+def plot(points, case, metric, stem):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -329,7 +330,7 @@ def plot(points, case, metric):
     ax.set_title(f"{case}: error against run time", fontsize=9)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(os.path.join(HERE, "results", f"pareto_{metric}.png"), dpi=110)
+    fig.savefig(os.path.join(HERE, "results", f"{stem}_{metric}.png"), dpi=110)
     plt.close(fig)
 
 
@@ -410,13 +411,15 @@ def main():
     ap.add_argument("--replot", action="store_true", help="measure nothing: the plots and tables again from pareto.csv")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    # The quick sweep writes files of its own: it does not overwrite the full sweep's.
+    stem = "pareto_quick" if args.quick else "pareto"
     only = ["nothing"] if args.replot else [c for c in args.cases.split(",") if c]
     for c in only:
         if c not in METRICS and c not in ("features", "nothing"):
             ap.error(f"--cases: unknown case '{c}' (cases: {', '.join(METRICS)}, features)")
     kept = []
     if only:
-        old_csv = os.path.join(HERE, "results", "pareto.csv")
+        old_csv = os.path.join(HERE, "results", stem + ".csv")
         if not os.path.exists(old_csv):
             ap.error(f"--cases keeps the other cases from {old_csv}, which does not exist: run the full sweep first")
         kept = [p for p in read_points(old_csv) if p["case"] not in only]
@@ -450,7 +453,7 @@ def main():
     minutes = (time.time() - started) / 60
     measured = len(points)
     points = kept + points
-    with open(os.path.join(HERE, "results", "pareto.csv"), "w", newline="") as f:
+    with open(os.path.join(HERE, "results", stem + ".csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(CSV_HEADER)
         for p in points:
@@ -465,7 +468,7 @@ def main():
         sweep_line = (f"; re-measured now: {', '.join(only)} ({measured} runs, {minutes:.1f} min); the other "
                       f"{len(kept)} points kept from the earlier pareto.csv.")
         # The header of the sweep that measured the kept points (carried over re-measurements).
-        with open(os.path.join(HERE, "results", "pareto.md")) as f:
+        with open(os.path.join(HERE, "results", stem + ".md")) as f:
             md = f.read().splitlines()
         kept_from = [l for l in md if l.startswith("Points kept from: ")]
         earlier = kept_from[0] if kept_from else "Points kept from: " + (md[0] if md else "?")
@@ -488,7 +491,7 @@ def main():
             pts = [p for p in points if p["case"] == case and metric in p]
             if not pts:
                 continue
-            plot(pts, case, metric)
+            plot(pts, case, metric, stem)
             lines += [f"### {metric}", "", "Pareto front (each point cheaper than every more accurate one):", "",
                       "| wall s | error % | configuration | steps | iterations / step |", "|---|---|---|---|---|"]
             for p in front(pts, metric):
@@ -505,7 +508,7 @@ def main():
             lines.append("")
     mark = "### What an unused feature costs"
     if only and "features" not in only:
-        with open(os.path.join(HERE, "results", "pareto.md")) as f:
+        with open(os.path.join(HERE, "results", stem + ".md")) as f:
             old_md = f.read()
         if mark in old_md:
             section = old_md[old_md.index(mark):].rstrip("\n")
@@ -528,7 +531,7 @@ def main():
         lines.append("")
     text = "\n".join(lines)
     print(text)
-    with open(os.path.join(HERE, "results", "pareto.md"), "w") as f:
+    with open(os.path.join(HERE, "results", stem + ".md"), "w") as f:
         f.write(text)
 
 
