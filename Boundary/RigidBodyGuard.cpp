@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "Utilities/AxisAlignedBox.h"
 #include "Utilities/Error.h"
 
 namespace consph {
@@ -42,7 +43,7 @@ void RigidBodyGuard::check(const std::vector<RigidBody>& bodies, std::size_t ste
            " needs a smaller time step)";
       throw SimulationError(s.str());
     }
-    if (limits_.hasDomain && ((b.x - limits_.domainMin).minCoeff() < 0 || (limits_.domainMax - b.x).minCoeff() < 0)) {
+    if (limits_.hasDomain && !insideBox(b.x, limits_.domainMin, limits_.domainMax)) {
       s << " left the domain: its centre of mass is at (" << b.x[0] << ", " << b.x[1] << ", " << b.x[2]
         << "): it passed through a boundary or the simulation blew up";
       throw SimulationError(s.str());

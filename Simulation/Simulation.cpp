@@ -270,7 +270,7 @@ void Simulation::dropParticlesInsideBodies() {
     const TriangleBvh surface = o.isBox ? TriangleBvh(TriangleMesh()) : TriangleBvh(o.mesh);
     parallelForDynamic(f.size(), [&](std::size_t i) {
       const Vector3r& x = f.positions[i];
-      if ((x - lo).minCoeff() < 0 || (hi - x).minCoeff() < 0) return;
+      if (!insideBox(x, lo, hi)) return;
       if (o.isBox || surface.windingNumber(x) > Real(0.5)) inside[i] = 1;
     });
   }
@@ -524,7 +524,7 @@ void Simulation::checkState() {
     const Vector3r& x = f.positions[i];
     if (!x.allFinite() || !f.velocities[i].allFinite() || !std::isfinite(f.pressures[i]))
       first.first = std::min(first.first, std::ptrdiff_t(i));
-    else if (hasDomain_ && ((x - domainMin_).minCoeff() < 0 || (domainMax_ - x).minCoeff() < 0))
+    else if (hasDomain_ && !insideBox(x, domainMin_, domainMax_))
       first.second = std::min(first.second, std::ptrdiff_t(i));
   });
   auto where = [&](std::ptrdiff_t i) {

@@ -1,5 +1,6 @@
 // The one test of a point against an axis-aligned box [lo, hi], faces included, that force-probe
-// regions, fluid removal boxes and the volume maps' load split share.
+// regions, fluid removal boxes, the volume maps' load split, the domain checks and the start-up
+// test for fluid inside bodies share. A non-finite point is outside.
 #pragma once
 #include "Utilities/Types.h"
 
