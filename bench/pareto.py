@@ -319,7 +319,7 @@ def plot(points, case, metric, stem):
         ax.scatter([], [], c="gray", marker=mk, label=m)
     ax.set_xscale("log")
     ax.set_yscale("log")
-    from matplotlib.ticker import NullFormatter, ScalarFormatter
+    from matplotlib.ticker import ScalarFormatter
     for axis, values in ((ax.xaxis, [p["wall"] for p in points if metric in p]),
                          (ax.yaxis, [max(p[metric], 1e-3) for p in points if metric in p])):
         if values and max(values) < 10 * min(values):  # within a decade: plain tick labels
@@ -417,12 +417,16 @@ def main():
     for c in only:
         if c not in METRICS and c not in ("features", "nothing"):
             ap.error(f"--cases: unknown case '{c}' (cases: {', '.join(METRICS)}, features)")
-    kept = []
+    kept, old_md = [], ""
     if only:
-        old_csv = os.path.join(HERE, "results", stem + ".csv")
-        if not os.path.exists(old_csv):
-            ap.error(f"--cases keeps the other cases from {old_csv}, which does not exist: run the full sweep first")
+        old_csv, md_path = (os.path.join(HERE, "results", stem + ext) for ext in (".csv", ".md"))
+        flag = "--replot" if args.replot else "--cases"
+        for path in (old_csv, md_path):
+            if not os.path.exists(path):
+                ap.error(f"{flag} keeps the earlier points from {path}, which does not exist: run the sweep first")
         kept = [p for p in read_points(old_csv) if p["case"] not in only]
+        with open(md_path) as f:
+            old_md = f.read()  # its header and feature-cost section are carried over
     if args.child:
         spec = json.loads(args.child)
         print(json.dumps(measure(spec["case"], spec["cfg"], spec["r"], args.threads)))
@@ -468,8 +472,7 @@ def main():
         sweep_line = (f"; re-measured now: {', '.join(only)} ({measured} runs, {minutes:.1f} min); the other "
                       f"{len(kept)} points kept from the earlier pareto.csv.")
         # The header of the sweep that measured the kept points (carried over re-measurements).
-        with open(os.path.join(HERE, "results", stem + ".md")) as f:
-            md = f.read().splitlines()
+        md = old_md.splitlines()
         kept_from = [l for l in md if l.startswith("Points kept from: ")]
         earlier = kept_from[0] if kept_from else "Points kept from: " + (md[0] if md else "?")
     lines = [header + sweep_line, ""]
@@ -508,8 +511,6 @@ def main():
             lines.append("")
     mark = "### What an unused feature costs"
     if only and "features" not in only:
-        with open(os.path.join(HERE, "results", stem + ".md")) as f:
-            old_md = f.read()
         if mark in old_md:
             section = old_md[old_md.index(mark):].rstrip("\n")
             note = "(measured by an earlier run of this script)"
