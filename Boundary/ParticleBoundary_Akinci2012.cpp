@@ -124,6 +124,8 @@ void ParticleBoundary_Akinci2012::initialize(const std::vector<BoundaryObject>& 
   std::string offsetNames;  // for the log: which objects moved their layer, and why
   for (std::size_t b = 0; b < objects.size(); ++b) {
     const BoundaryObject& o = objects[b];
+    if ((o.mapCellSize != 0 || o.mapThickness != 0) && log_)
+      log_(LogLevel::Warning, o.path + ": mapCellSize and mapThickness are volume-map settings; Akinci2012 samples the mesh itself and ignores them");
     // "auto": a static object is sampled on its mesh first, to see whether the fluid starts there.
     std::vector<Vector3r> points;
     bool touched = false;

@@ -30,7 +30,7 @@ Real boxDistance(const Vector3r& x, const Vector3r& lo, const Vector3r& hi) {
 }  // namespace
 
 VolumeMap::VolumeMap(const BoundaryObject& object, const CubicSplineKernel& kernel, Real cellSize, Real surfaceOffset)
-    : cell_(cellSize), offset_(surfaceOffset) {
+    : cell_(cellSize), offset_(surfaceOffset), thickness_(object.mapThickness) {
   if (!object.isBox && object.mesh.triangles.empty()) throw InputError(object.path + ": the mesh has no triangles");
   const Real h = kernel.supportRadius();
   // Wide enough that the volume quadrature around every node it integrates (-h < Phi < h + 2
@@ -40,7 +40,7 @@ VolumeMap::VolumeMap(const BoundaryObject& object, const CubicSplineKernel& kern
   Vector3r lo, hi;
   object.mesh.boundingBox(lo, hi);
   // The grid covers every point within the band of the surface.
-  const Vector3r margin = Vector3r::Constant(band_ + offset_ + cell_);
+  const Vector3r margin = Vector3r::Constant(band_ + offset_ + thickness_ + cell_);
   origin_ = lo - margin;
   for (int a = 0; a < 3; ++a)
     dims_[a] = checkedCount(std::ceil(double(hi[a] - lo[a] + 2 * margin[a]) / double(cell_)) + 1, object.path + ": volume map");
@@ -52,7 +52,7 @@ VolumeMap::VolumeMap(const BoundaryObject& object, const CubicSplineKernel& kern
     if (p != kFar) depth = std::max(depth, -p);
   offset_ = std::min(offset_, std::max(Real(0), depth - cell_));
   for (Real& p : phi_)
-    if (p != kFar) p += offset_;
+    if (p != kFar) p += surfaceShift();
   buildBallRule();
   computeVolumes(kernel);
 }
@@ -87,9 +87,9 @@ void VolumeMap::computeDistances(const BoundaryObject& object) {
   // Unsigned distance within the band: each z-slice (one thread) visits the triangles whose
   // band-grown bounding box reaches it; the sign from the closest face's normal, or from the
   // winding number where the closest point is on an edge or a vertex (normals disagree there).
-  // Exact where the unsigned distance to the mesh is below band + offset (the offset may move
-  // the surface that far).
-  const Real meshBand = band_ + offset_;
+  // Exact where the unsigned distance to the mesh is below band + offset + thickness (either
+  // may move the surface that far).
+  const Real meshBand = band_ + offset_ + thickness_;
   const TriangleBvh surface(mesh);  // winding numbers in O(log n)
   std::vector<Vector3r> triLo(mesh.triangles.size()), triHi(mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -196,7 +196,7 @@ void VolumeMap::computeVolumes(const CubicSplineKernel& kernel) {
 }
 
 Real VolumeMap::exactDistance(const Vector3r& x) const {
-  return isBox_ ? fluidSign_ * boxDistance(x, boxMin_, boxMax_) + offset_ : distance(x);
+  return isBox_ ? fluidSign_ * boxDistance(x, boxMin_, boxMax_) + surfaceShift() : distance(x);
 }
 
 void VolumeMap::normalMoments(const Vector3r& x, const CubicSplineKernel& kernel,
@@ -238,7 +238,7 @@ bool VolumeMap::distanceAndNormal(const Vector3r& y, Real& phi, Vector3r& normal
       phi = q[axis];
       gradient[axis] = rel[axis] < 0 ? Real(-1) : Real(1);
     }
-    phi = fluidSign_ * phi + offset_;
+    phi = fluidSign_ * phi + surfaceShift();
     normal = fluidSign_ * gradient;
     return true;
   }
@@ -345,6 +345,7 @@ void VolumeMap::save(StateWriter& out) const {
   out.put("box", std::array<Real, 6>{boxMin_[0], boxMin_[1], boxMin_[2], boxMax_[0], boxMax_[1], boxMax_[2]});
   out.put("fluidSign", fluidSign_);
   out.put("offset", offset_);
+  out.put("thickness", thickness_);
 }
 
 std::unique_ptr<VolumeMap> VolumeMap::load(const StateReader& in) {
@@ -364,6 +365,7 @@ std::unique_ptr<VolumeMap> VolumeMap::load(const StateReader& in) {
   m->boxMax_ = Vector3r(box[3], box[4], box[5]);
   m->fluidSign_ = in.get<Real>("fluidSign");
   m->offset_ = in.get<Real>("offset");
+  m->thickness_ = in.get<Real>("thickness");
   const std::size_t nodes = std::size_t(m->dims_[0]) * std::size_t(m->dims_[1]) * std::size_t(m->dims_[2]);
   if (m->phi_.size() != nodes || m->volume_.size() != nodes)
     throw InputError(in.file() + ": the volume map's node arrays do not match its grid");

@@ -11,6 +11,8 @@
 // V is integrated where a particle can meet the boundary, Phi < h + 2 cells. `surfaceOffset`
 // moves the surface that far into the solid (Phi + offset), at most to one cell short of a thin
 // part's mid-plane: the boundary model uses it to put the resting fluid's surface on the mesh.
+// The object's `mapThickness` moves it the other way, into the fluid (Phi - thickness, as
+// SPlisHSPlasH's maps do), by any amount.
 // Meshes must be closed (an open one has no inside: InputError).
 #pragma once
 #include <functional>
@@ -59,6 +61,8 @@ class VolumeMap {
   static std::unique_ptr<VolumeMap> load(const StateReader& in);
   // The offset applied: the requested one, less where the object is too thin for it.
   Real surfaceOffset() const { return offset_; }
+  Real thickness() const { return thickness_; }
+  Real cellSize() const { return cell_; }
 
  private:
   VolumeMap() = default;
@@ -89,7 +93,9 @@ class VolumeMap {
   bool isBox_ = false;
   Vector3r boxMin_ = Vector3r::Zero(), boxMax_ = Vector3r::Zero();
   Real fluidSign_ = 1;
-  Real offset_ = 0;  // m, the surface moved into the solid
+  Real offset_ = 0;     // m, the surface moved into the solid
+  Real thickness_ = 0;  // m, the surface moved into the fluid (the object's mapThickness)
+  Real surfaceShift() const { return offset_ - thickness_; }  // added to the mesh's distance
 };
 
 }  // namespace consph

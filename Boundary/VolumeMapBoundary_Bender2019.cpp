@@ -59,8 +59,9 @@ BoundaryEstimate VolumeMapBoundary_Bender2019::estimate(const std::vector<Bounda
   // VolumeMap's grid: the bounding box grown by its band (2h + 3 cells), the largest surface
   // offset (4r) and a cell, one node per cell corner; a distance and a volume per node.
   BoundaryEstimate e;
-  const double cell = double(cellSize_), margin = 2 * double(kernel.supportRadius()) + 4 * cell + 4 * double(particleRadius_);
   for (const BoundaryObject& o : objects) {
+    const double cell = double(cellSizeOf(o)),
+                 margin = 2 * double(kernel.supportRadius()) + 4 * cell + 4 * double(particleRadius_) + double(o.mapThickness);
     Vector3r lo, hi;
     o.mesh.boundingBox(lo, hi);
     double nodes = 1;
@@ -90,7 +91,7 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
     moving_[b] = o.motion != BodyMotion::Static;
     // A moving body's displaced volume is its buoyancy: its surface always moves ("auto").
     const bool always = offsetObjects_ == "all" || (offsetObjects_ == "auto" && moving_[b]);
-    auto map = cache_.obtain(o, kernel, cellSize_, always ? offset : Real(0));
+    auto map = cache_.obtain(o, kernel, cellSizeOf(o), always ? offset : Real(0));
     // "auto": the initial fluid reaches the surface (a particle within 0.95 d: a block drawn up
     // to it, whose outer layer starts d/2 from it, well inside the resting distance).
     bool touched = false;
@@ -98,7 +99,7 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
       const VolumeMap& m = *map;
       const Real reach = Real(0.95) * fluidSpacing_;
       touched = parallelAny(fluid.size(), [&](std::size_t i) { return m.distance(fluid.positions[i]) < reach; });
-      if (touched) map = cache_.obtain(o, kernel, cellSize_, offset);
+      if (touched) map = cache_.obtain(o, kernel, cellSizeOf(o), offset);
     }
     if (always || touched) {
       offsetNames += (offsetNames.empty() ? "" : ", ") + (o.name.empty() ? o.path : o.name);

@@ -63,6 +63,9 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   bool virtualParticle(std::size_t o, const Vector3r& x, const CubicSplineKernel& kernel, Vector3r& position, Real& mass,
                        Vector3r& gradient) const;
 
+  // m: the object's mapCellSize, else the model's cellSize.
+  Real cellSizeOf(const BoundaryObject& o) const { return o.mapCellSize > 0 ? o.mapCellSize * particleRadius_ : cellSize_; }
+
   Real particleRadius_;
   Real fluidSpacing_;          // m, the fluid lattice spacing d
   Real cellSize_;              // m

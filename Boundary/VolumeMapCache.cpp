@@ -14,7 +14,7 @@ namespace consph {
 
 namespace {
 // Bump when VolumeMap's construction or its saved blocks change: old files then miss.
-constexpr int kFormatVersion = 1;
+constexpr int kFormatVersion = 2;  // 2: the object's mapThickness
 
 // The inputs a map depends on, as bytes: hashed for the file name, stored in the file and
 // compared on load.
@@ -25,6 +25,7 @@ std::string mapInputs(const BoundaryObject& o, const CubicSplineKernel& kernel, 
   w.put("h", kernel.supportRadius());
   w.put("cellSize", cellSize);
   w.put("surfaceOffset", surfaceOffset);
+  w.put("thickness", o.mapThickness);
   w.put("isBox", o.isBox);
   w.put("inverted", o.inverted);
   w.put("box", std::array<Real, 6>{o.boxMin[0], o.boxMin[1], o.boxMin[2], o.boxMax[0], o.boxMax[1], o.boxMax[2]});

@@ -2,9 +2,9 @@
 // computing them again (a two-dragon scene: minutes). A map is stored as
 // DIRECTORY/volumemap_KEY.state (Utilities/StateArchive.h), KEY a 64-bit FNV-1a hash of
 // everything that changes the map: the format version, the build's precision, the object's
-// world-space mesh (so its transform too), box and inversion, the kernel radius, the cell size
-// and the surface offset. The file repeats those inputs and a load checks them, so a hash
-// collision or a stale file is rebuilt, never used. Files are written under a unique temporary
+// world-space mesh (so its transform too), box and inversion, the kernel radius, the cell size,
+// the surface offset and the thickness. The file repeats those inputs and a load checks them, so a
+// hash collision or a stale file is rebuilt, never used. Files are written under a unique temporary
 // name and renamed: runs that share a cache never see half a file.
 #pragma once
 #include <memory>

@@ -47,6 +47,11 @@ struct BoundaryObject {
   Vector3r angularVelocity = Vector3r::Zero();  // rad/s
   HingeDescription hinge;                       // dynamic bodies only
   Real friction = Real(0.5);  // Coulomb coefficient in rigid contact; a pair uses sqrt(mu_a mu_b)
+
+  // Settings of this object's volume map (implicit boundary models only; Akinci samples ignore
+  // them with a warning). 0: the model's cell size.
+  Real mapCellSize = 0;   // in particle radii r
+  Real mapThickness = 0;  // m: the surface moved this far into the fluid (SPlisHSPlasH's mapThickness)
 };
 
 // Where a moving object is now: the point p it had at t = 0 is at centre + rotation (p -

@@ -240,7 +240,11 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
             {"velocity", ParamType::Vector3, json::array({0, 0, 0}), "initial velocity of a dynamic body's centre of mass, m/s"},
             {"angularVelocity", ParamType::Vector3, json::array({0, 0, 0}), "initial angular velocity of a dynamic body, rad/s"},
             {"friction", ParamType::Real, 0.5,
-             "Coulomb friction coefficient in rigid contact (a pair of objects uses sqrt(mu_a mu_b); 0: frictionless)", 0, 10}});
+             "Coulomb friction coefficient in rigid contact (a pair of objects uses sqrt(mu_a mu_b); 0: frictionless)", 0, 10},
+            {"mapCellSize", ParamType::Real, 0.0,
+             "VolumeMap: this object's map cell size in particle radii (0: the model's cellSize)", 0, 8},
+            {"mapThickness", ParamType::Real, 0.0,
+             "VolumeMap: the surface moved this far into the fluid, m (SPlisHSPlasH's mapThickness)", 0, 1e6}});
   Params p(b, path, specs, log, {"box", "animated", "hinge", "density"});
   BoundaryObject o;
   o.name = p.string("name");
@@ -248,6 +252,10 @@ BoundaryObject parseBoundary(const json& b, const std::string& path, const std::
   o.path = path;
   o.inverted = p.boolean("inverted");
   o.friction = p.real("friction");
+  o.mapCellSize = p.real("mapCellSize");
+  if (o.mapCellSize != 0 && o.mapCellSize < Real(0.25))
+    throw InputError(p.pathOf("mapCellSize") + ": must be 0 (the model's) or at least 0.25 radii");
+  o.mapThickness = p.real("mapThickness");
   parseBodyMotion(b, p, o, log);
   const PlacementKeys placed = placement(p);
   const Vector3r translation = placed.translation, scale = placed.scale, axis = placed.axis;

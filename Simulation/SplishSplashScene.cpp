@@ -430,11 +430,14 @@ json convertRigidBody(const json& value, const std::string& path, const std::str
     b.unhonoured("angularVelocity", "a static body cannot move in consph");
   }
   if (b.has("friction")) o["friction"] = b.number("friction", 0.5);
+  // The same shift of the map's surface into the fluid (Phi - thickness).
+  if (const double thickness = b.number("mapThickness", 0); thickness != 0) o["mapThickness"] = thickness;
   if (b.flag("isAnimated", false)) unhonoured.add("isAnimated", b.pathOf("isAnimated"), "consph animates bodies by a prescribed velocity (\"animated\"), not by script: the body is static");
   Reasons reasons;
   reasons["color"] = reasons["isWall"] = kDisplayOnly;
-  reasons["mapThickness"] = "consph places the boundary surface by simulation.boundaryModel.surfaceOffset (one value for all objects)";
-  reasons["mapResolution"] = "consph sizes map cells by simulation.boundaryModel.cellSize (radii, one value for all objects)";
+  reasons["mapResolution"] =
+      "a cell count for SPlisHSPlasH's cubic-interpolated grid; consph's maps are trilinear and need cells of about r "
+      "(simulation.boundaryModel.cellSize, default 1 r; per object: the boundary's mapCellSize)";
   reasons["samplingMode"] = "consph samples surfaces on its own regular grid (simulation.boundaryModel.samplingDistance)";
   reasons["particleFile"] = "consph samples the body's surface from geometryFile itself";
   reasons["mapFile"] = "consph builds the volume map from geometryFile itself";

@@ -3,6 +3,7 @@
 # build folder build-asan/ (gcc, -O1, Python module off). Not in .ci/run: the sanitized suite
 # takes far longer than CI's budget on 2 cores (bench/RESULTS.md has the measured durations).
 #   bench/sanitize.sh [GTEST_FILTER]      e.g. bench/sanitize.sh 'TriangleBvh*:MeshSampling*'
+# JOBS=N sets the build parallelism (default 1, which leaves the other core free).
 # Exits non-zero on the first sanitizer report (halt_on_error) or failing test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,7 +13,7 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCONSPH_NAT
   -DCONSPH_BUILD_BENCH=OFF -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
   -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
-nice -n 10 ninja -j1 -C build-asan consph_tests
+nice -n 10 ninja -j"${JOBS:-1}" -C build-asan consph_tests
 built=$(date +%s)
 # Leak checking off: libgomp's thread pool lives until exit and is reported as leaked.
 export ASAN_OPTIONS=halt_on_error=1:detect_leaks=0:abort_on_error=1

@@ -126,7 +126,7 @@ TEST(SplishSplashScene, DamBreakModelStartsWithSplishSplashsParticlesAndRuns) {
 TEST(SplishSplashScene, UnhonouredKeysAreWarnedOnceEach) {
   const auto l = load("DamBreakModel");
   const std::map<std::string, int> expected = {{"numberOfStepsPerRenderUpdate", 1}, {"particleAttributes", 1}, {"color", 1},
-                                               {"isWall", 1},                       {"mapThickness", 1},      {"mapResolution", 1}};
+                                               {"isWall", 1},                       {"mapResolution", 1}};
   EXPECT_EQ(unhonouredKeys(l->log), expected);
 
   // Two bodies with a colour: one warning naming both.
@@ -150,6 +150,29 @@ TEST(SplishSplashScene, UnhonouredKeysAreWarnedOnceEach) {
   EXPECT_EQ(w->scene.maxTimeStep, Real(0.005));
   EXPECT_EQ(w->scene.cflFactor, Real(0.5));
   EXPECT_EQ(w->scene.pressureSolver["maxError"], 0.01);
+}
+
+// mapThickness is the same shift of the map's surface in both frameworks: it is carried over;
+// mapResolution (a cell count for a cubic-interpolated grid) is warned, with the per-object key
+// consph offers instead.
+TEST(SplishSplashScene, MapThicknessIsCarriedOverAndMapResolutionNamesMapCellSize) {
+  json scene = minimalScene();
+  scene["Configuration"]["boundaryHandlingMethod"] = 2;
+  scene["RigidBodies"] = json::parse(R"([{"geometryFile": "box.obj", "mapInvert": true, "mapThickness": 0.02,
+                                          "mapResolution": [20, 20, 20]}])");
+  CapturedLog log;
+  const json converted = convert(scene, log);
+  EXPECT_EQ(converted["boundaries"][0]["mapThickness"], 0.02);
+  const auto keys = unhonouredKeys(log);
+  EXPECT_EQ(keys.count("mapThickness"), 0u);
+  ASSERT_EQ(keys.count("mapResolution"), 1u);
+  bool namesTheKey = false;
+  for (const std::string& w : log.warnings) namesTheKey |= w.find("mapCellSize") != std::string::npos;
+  EXPECT_TRUE(namesTheKey);
+  // 0 (every bundled scene's value) writes no key.
+  scene["RigidBodies"][0]["mapThickness"] = 0.0;
+  CapturedLog zeroLog;
+  EXPECT_FALSE(convert(scene, zeroLog)["boundaries"][0].contains("mapThickness"));
 }
 
 TEST(SplishSplashScene, DragAndEmittersMapToTheirPlugins) {

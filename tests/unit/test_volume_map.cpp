@@ -96,6 +96,49 @@ TEST(VolumeMap, AThinPlateKeepsASolidSide) {
   EXPECT_GT(map.distance(Vector3r(Real(0.25), 3 * kR, Real(0.25))), 0);
 }
 
+// An object's mapThickness moves its surface that far into the fluid (SPlisHSPlasH's Phi - t): on
+// a floor, Phi is the height less t and V the half-space integral at that distance; a mesh
+// body's distances all fall by t, wherever the unshifted map is exact, up to the trilinear
+// interpolation of a sphere's distance (the thicker map's grid is t wider, so its nodes sit
+// elsewhere: a cell^2 / (8 R) = 2.6e-4 m bound; measured 1.6e-5 m).
+TEST(VolumeMap, ThicknessMovesTheSurfaceIntoTheFluid) {
+  const CubicSplineKernel kernel(4 * kR);
+  // One cell thick, so that the grid (grown by t) keeps its nodes at whole radii: V between
+  // nodes is interpolated.
+  BoundaryObject tank = boxObject(Vector3r::Zero(), Vector3r(1, 1, 1), true);
+  tank.mapThickness = kR;
+  const VolumeMap map(tank, kernel, kR);
+  EXPECT_EQ(map.thickness(), kR);
+  for (int k = 1; k < 5; ++k) {  // Phi = 0 .. 3 r, as on the plain floor above
+    const Real t = kR;
+    const Real y = Real(k) * kR;
+    Real phi, volume;
+    Vector3r phiGradient, volumeGradient;
+    ASSERT_TRUE(map.sample(Vector3r(Real(0.5), y, Real(0.5)), phi, phiGradient, volume, volumeGradient));
+    EXPECT_NEAR(phi, y - t, 1e-6);
+    EXPECT_NEAR(volume / VolumeMap::halfSpaceVolume(kernel, y - t), 1, 2e-4) << "y = " << k << " r";
+  }
+  // The bundled sphere (0.3 m) as a body, with and without the thickness; with the offset too.
+  TriangleMesh mesh = loadMesh(test::dataPath("meshes/sphere.obj"));
+  transformMesh(mesh, Vector3r::Constant(Real(0.3)), Vector3r::UnitX(), 0, Vector3r::Zero());
+  BoundaryObject ball;
+  ball.name = ball.path = "ball";
+  ball.mesh = mesh;
+  const VolumeMap plain(ball, kernel, kR, Real(0.5) * kR);
+  const Real t = Real(0.6) * kR;
+  ball.mapThickness = t;
+  const VolumeMap thick(ball, kernel, kR, Real(0.5) * kR);
+  EXPECT_EQ(thick.surfaceOffset(), plain.surfaceOffset());
+  int compared = 0;
+  for (Real radius = Real(0.2); radius < Real(0.45); radius += Real(0.013)) {
+    const Vector3r x = radius * Vector3r(1, 2, -2).normalized();
+    if (plain.distance(x) > 4 * kR) continue;  // beyond the band the plain map is not exact
+    EXPECT_NEAR(thick.distance(x), plain.distance(x) - t, kR * kR / (8 * Real(0.3))) << "|x| = " << radius;
+    ++compared;
+  }
+  EXPECT_GE(compared, 10);
+}
+
 TEST(VolumeMap, AnOpenMeshIsAnErrorNamingTheObject) {
   const CubicSplineKernel kernel(4 * kR);
   BoundaryObject quad;
@@ -249,6 +292,42 @@ TEST(VolumeMapBoundary, MirroringAndExtrapolationWarnThatTheyArePkEqualsPi) {
 
 // Moving bodies take their map along; rigid contact samples their surfaces for itself (they
 // have no sample layers), so nothing needs a warning.
+// Per-object map settings: an object's mapCellSize (radii) replaces the model's cellSize for its
+// map alone, its mapThickness reaches its map; Akinci samples warn that they ignore both.
+TEST(VolumeMapBoundary, ObjectsChooseTheirOwnCellSizeAndThickness) {
+  json scene = json::parse(R"({
+    "simulation": {"particleRadius": 0.025, "boundaryModel": {"type": "VolumeMap", "cache": ""}},
+    "fluids": [{"blocks": [{"min": [0.05, 0.05, 0.05], "max": [0.3, 0.2, 0.3]}]}],
+    "boundaries": [{"box": {"min": [0, 0, 0], "max": [1, 1, 1]}, "inverted": true, "mapCellSize": 2},
+                   {"name": "ball", "mesh": "../meshes/sphere.obj", "scale": [0.15, 0.15, 0.15], "translation": [0.6, 0.5, 0.5],
+                    "mapCellSize": 0.5, "mapThickness": 0.01}]
+  })");
+  test::CapturedLog log;
+  auto sim = test::simulationFromJson(scene, log.sink());
+  const auto& model = dynamic_cast<const VolumeMapBoundary_Bender2019&>(sim->boundaryModel());
+  EXPECT_EQ(model.map(0).cellSize(), 2 * kR);
+  EXPECT_EQ(model.map(1).cellSize(), Real(0.5) * kR);
+  EXPECT_EQ(model.map(0).thickness(), 0);
+  EXPECT_EQ(model.map(1).thickness(), Real(0.01));
+  EXPECT_TRUE(log.warnings.empty()) << log.warnings[0];
+
+  scene["simulation"]["boundaryModel"] = "Akinci2012";
+  test::CapturedLog akinciLog;
+  test::simulationFromJson(scene, akinciLog.sink());
+  int warned = 0;
+  for (const std::string& w : akinciLog.warnings)
+    warned += w.find("mapCellSize and mapThickness are volume-map settings") != std::string::npos;
+  EXPECT_EQ(warned, 2) << "one warning per object that sets them";
+  // Below a quarter radius (but not 0, the model's) is refused with the key's path.
+  scene["boundaries"][1]["mapCellSize"] = 0.1;
+  try {
+    test::simulationFromJson(scene);
+    FAIL() << "mapCellSize 0.1 must be refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("boundaries[1].mapCellSize"), std::string::npos) << e.what();
+  }
+}
+
 TEST(VolumeMapBoundary, DynamicBodiesGetContactPointsWithoutAWarning) {
   json s = {{"simulation", {{"particleRadius", 0.025}, {"boundaryModel", "VolumeMap"}}},
             {"fluids", {{{"blocks", {{{"min", {0.1, 0.1, 0.1}}, {"max", {0.3, 0.3, 0.3}}}}}}}},

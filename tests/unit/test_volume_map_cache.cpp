@@ -73,6 +73,12 @@ TEST(VolumeMapCache, ChangedParametersOrTransformsMissAndDamagedFilesAreRebuilt)
   // Another cell size: every map differs.
   auto coarser = simulationFromJson(cachedScene(cache, 3.0));
   EXPECT_EQ(mapsOf(*coarser).cache().loads(), 0u);
+  // The ball made thicker (mapThickness): its map misses, the tank's still loads.
+  json thicker = cachedScene(cache);
+  thicker["boundaries"][1]["mapThickness"] = 0.01;
+  auto thick = simulationFromJson(thicker);
+  EXPECT_EQ(mapsOf(*thick).cache().loads(), 1u);
+  EXPECT_EQ(mapsOf(*thick).map(1).thickness(), Real(0.01));
   // The ball moved: its map misses, the tank's still loads.
   json moved = cachedScene(cache);
   moved["boundaries"][1]["translation"][0] = 0.55;
