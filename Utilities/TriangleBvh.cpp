@@ -166,6 +166,37 @@ bool TriangleBvh::anyTriangleCloserThan(const Vector3r& p, Real distance) const 
   return false;
 }
 
+TriangleBvh::Nearest TriangleBvh::nearestTriangle(const Vector3r& p, Real within) const {
+  Nearest best;
+  best.distance = within;
+  if (nodes_.empty()) return best;
+  std::uint32_t stack[kStackSize];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    // <= : a box exactly at the best distance may still hold a tie with a lower mesh index.
+    if (!(boxDistanceSquared(p, node.lo, node.hi) <= best.distance * best.distance)) continue;
+    if (node.count > 0) {
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
+        bool onFace;
+        const Vector3r q = closestPointOnTriangle(p, corners_[i][0], corners_[i][1], corners_[i][2], &onFace);
+        const Real d = (p - q).norm();
+        if (d < best.distance || (d == best.distance && best.triangle != kNoTriangle && meshIndex_[i] < best.triangle))
+          best = {meshIndex_[i], d, q, onFace};
+      }
+      continue;
+    }
+    // The nearer child last, so that it is visited first and tightens the bound sooner.
+    const std::uint32_t left = std::uint32_t(&node - nodes_.data()) + 1, right = node.right;
+    const bool leftNearer =
+        boxDistanceSquared(p, nodes_[left].lo, nodes_[left].hi) <= boxDistanceSquared(p, nodes_[right].lo, nodes_[right].hi);
+    stack[top++] = leftNearer ? right : left;
+    stack[top++] = leftNearer ? left : right;
+  }
+  return best;
+}
+
 Real TriangleBvh::windingNumber(const Vector3r& p) const {
   double omega = 0;
   if (nodes_.empty()) return 0;

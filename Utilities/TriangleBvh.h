@@ -1,6 +1,6 @@
 // A bounding-volume hierarchy over the triangles of a mesh, for queries that would otherwise
 // visit every triangle: the first triangle a ray crosses, whether any triangle lies within a
-// distance, and the generalised winding number. Built in O(n log n) (median split of the
+// distance, the nearest triangle, and the generalised winding number. Built in O(n log n) (median split of the
 // triangle centroids along the longest axis); a query visits O(log n) nodes on ordinary meshes.
 //
 // Written here rather than taken from a Debian package: the ones that would fit (libembree's
@@ -44,6 +44,19 @@ class TriangleBvh {
 
   // Whether some triangle has a point closer than `distance` to p.
   bool anyTriangleCloserThan(const Vector3r& p, Real distance) const;
+
+  // The triangle nearest to p among those closer than `within`: its index in the mesh, the
+  // closest point on it, the distance and whether that point is inside the face (not on an edge
+  // or a vertex). Ties go to the lowest mesh index, so the answer is the brute force's (the first
+  // triangle in mesh order with the least closestPointOnTriangle distance). `triangle` is
+  // kNoTriangle when none is that close.
+  struct Nearest {
+    std::size_t triangle = kNoTriangle;
+    Real distance = 0;
+    Vector3r point = Vector3r::Zero();
+    bool onFace = false;
+  };
+  Nearest nearestTriangle(const Vector3r& p, Real within) const;
 
   // Generalised winding number around p: 1 inside a closed mesh with outward normals, 0 outside
   // (within 0.02 of the exact sum: the side of 0.5 is the brute force's off the surface).
