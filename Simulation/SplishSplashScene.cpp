@@ -566,6 +566,10 @@ json convertSplishSplashScene(const json& scene, const std::string& sceneDir, co
     emitters.push_back(out);
     e.finish({});
   });
+  // Not a key, so not in the unhonoured list: a geometry SPlisHSPlasH adds by itself.
+  if (!emitters.empty() && log)
+    log(LogLevel::Warning, "Emitters: SPlisHSPlasH surrounds each nozzle with a boundary box (a cylinder for a circular one); "
+                           "consph adds none: add a boundary object where fluid can flow back onto a nozzle");
 
   // Materials: consph runs one fluid, so the fluid objects must share one material.
   if (materialIds.size() > 1) {
