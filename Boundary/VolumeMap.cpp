@@ -42,8 +42,10 @@ VolumeMap::VolumeMap(const BoundaryObject& object, const CubicSplineKernel& kern
   // The grid covers every point within the band of the surface.
   const Vector3r margin = Vector3r::Constant(band_ + offset_ + thickness_ + cell_);
   origin_ = lo - margin;
-  for (int a = 0; a < 3; ++a)
+  for (int a = 0; a < 3; ++a) {
     dims_[a] = checkedCount(std::ceil(double(hi[a] - lo[a] + 2 * margin[a]) / double(cell_)) + 1, object.path + ": volume map");
+    brickDims_[a] = (dims_[a] + kBrick - 1) / kBrick;
+  }
   computeDistances(object);
   // The offset moves the surface into the solid, but a thin part (a plate, a baffle) keeps a
   // solid side: at most to one cell short of its mid-plane (its deepest point).
@@ -57,20 +59,57 @@ VolumeMap::VolumeMap(const BoundaryObject& object, const CubicSplineKernel& kern
   computeVolumes(kernel);
 }
 
+void VolumeMap::storeBricks(const std::function<bool(const Vector3r& centre, Real halfDiagonal)>& reachesBand) {
+  // A brick is kept when one of its nodes may lie in the band: its centre is nearer than the
+  // band plus the half diagonal of its nodes' box (distances are 1-Lipschitz). Nodes of a
+  // dropped brick would all have held kFar.
+  const std::size_t brickCount = std::size_t(brickDims_[0]) * brickDims_[1] * brickDims_[2];
+  std::vector<char> keep(brickCount, 0);
+  parallelForDynamic(brickCount, [&](std::size_t b) {
+    const int bi = int(b % std::size_t(brickDims_[0])), bj = int(b / std::size_t(brickDims_[0]) % std::size_t(brickDims_[1])),
+              bk = int(b / (std::size_t(brickDims_[0]) * brickDims_[1]));
+    const Vector3r first = position(bi * kBrick, bj * kBrick, bk * kBrick);
+    const Vector3r last = position(std::min(bi * kBrick + kBrick, dims_[0]) - 1, std::min(bj * kBrick + kBrick, dims_[1]) - 1,
+                                   std::min(bk * kBrick + kBrick, dims_[2]) - 1);
+    keep[b] = reachesBand(Real(0.5) * (first + last), Real(0.5) * (last - first).norm() + Real(1e-6) * cell_);
+  }, 64);
+  brickSlot_.assign(brickCount, -1);
+  bricks_.clear();
+  for (std::size_t b = 0; b < brickCount; ++b)
+    if (keep[b]) {
+      brickSlot_[b] = std::int32_t(bricks_.size());
+      bricks_.push_back(std::uint32_t(b));
+    }
+  phi_.assign(bricks_.size() * kBrickNodes, kFar);
+}
+
+template <class NodeFunction>
+void VolumeMap::forEachStoredNode(NodeFunction&& f) const {
+  parallelForDynamic(bricks_.size(), [&](std::size_t slot) {
+    const std::size_t b = bricks_[slot];
+    const int bi = int(b % std::size_t(brickDims_[0])), bj = int(b / std::size_t(brickDims_[0]) % std::size_t(brickDims_[1])),
+              bk = int(b / (std::size_t(brickDims_[0]) * brickDims_[1]));
+    for (int k = bk * kBrick; k < std::min(bk * kBrick + kBrick, dims_[2]); ++k)
+      for (int j = bj * kBrick; j < std::min(bj * kBrick + kBrick, dims_[1]); ++j)
+        for (int i = bi * kBrick; i < std::min(bi * kBrick + kBrick, dims_[0]); ++i) f(i, j, k, storedIndex(i, j, k));
+  }, 1);
+}
+
 void VolumeMap::computeDistances(const BoundaryObject& object) {
-  phi_.assign(std::size_t(dims_[0]) * dims_[1] * dims_[2], kFar);
   // In the fluid: outside a body's closed surface, inside a container's.
   const Real fluidSign = object.inverted ? Real(-1) : Real(1);
   isBox_ = object.isBox;
   boxMin_ = object.boxMin;
   boxMax_ = object.boxMax;
   fluidSign_ = fluidSign;
+  const Real meshBand = band_ + offset_ + thickness_;
   if (object.isBox) {
-    parallelFor(std::size_t(dims_[2]), [&](std::size_t zIndex) {
-      const int k = int(zIndex);
-      for (int j = 0; j < dims_[1]; ++j)
-        for (int i = 0; i < dims_[0]; ++i)
-          phi_[node(i, j, k)] = fluidSign * boxDistance(position(i, j, k), object.boxMin, object.boxMax);
+    // Analytic at every stored node (the bricks within the band).
+    storeBricks([&](const Vector3r& c, Real halfDiagonal) {
+      return std::abs(boxDistance(c, object.boxMin, object.boxMax)) < meshBand + halfDiagonal;
+    });
+    forEachStoredNode([&](int i, int j, int k, std::size_t n) {
+      phi_[n] = fluidSign * boxDistance(position(i, j, k), object.boxMin, object.boxMax);
     });
     return;
   }
@@ -90,27 +129,22 @@ void VolumeMap::computeDistances(const BoundaryObject& object) {
   // where the closest point is on an edge or a vertex (normals disagree there). Exact where the
   // unsigned distance to the mesh is below band + offset + thickness (either may move the
   // surface that far).
-  const Real meshBand = band_ + offset_ + thickness_;
   const TriangleBvh surface(mesh);
-  const auto eachSlice = [&](std::size_t zIndex) {
-    const int k = int(zIndex);
-    for (int j = 0; j < dims_[1]; ++j)
-      for (int i = 0; i < dims_[0]; ++i) {
-        const Vector3r x = position(i, j, k);
-        const TriangleBvh::Nearest nearest = surface.nearestTriangle(x, meshBand);
-        if (nearest.triangle == TriangleBvh::kNoTriangle) continue;  // outside the band
-        bool insideSurface;
-        if (nearest.onFace && nearest.distance > 0) {
-          const auto& tri = mesh.triangles[nearest.triangle];
-          const Vector3r n = (mesh.vertices[tri[1]] - mesh.vertices[tri[0]]).cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
-          insideSurface = outward * n.dot(x - nearest.point) < 0;
-        } else {
-          insideSurface = std::abs(surface.windingNumber(x)) > Real(0.5);
-        }
-        phi_[node(i, j, k)] = (insideSurface ? -fluidSign : fluidSign) * nearest.distance;
-      }
-  };
-  parallelForDynamic(std::size_t(dims_[2]), eachSlice, 1);  // one z-slice at a time
+  storeBricks([&](const Vector3r& c, Real halfDiagonal) { return surface.anyTriangleCloserThan(c, meshBand + halfDiagonal); });
+  forEachStoredNode([&](int i, int j, int k, std::size_t n) {
+    const Vector3r x = position(i, j, k);
+    const TriangleBvh::Nearest nearest = surface.nearestTriangle(x, meshBand);
+    if (nearest.triangle == TriangleBvh::kNoTriangle) return;  // outside the band
+    bool insideSurface;
+    if (nearest.onFace && nearest.distance > 0) {
+      const auto& tri = mesh.triangles[nearest.triangle];
+      const Vector3r n = (mesh.vertices[tri[1]] - mesh.vertices[tri[0]]).cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
+      insideSurface = outward * n.dot(x - nearest.point) < 0;
+    } else {
+      insideSurface = std::abs(surface.windingNumber(x)) > Real(0.5);
+    }
+    phi_[n] = (insideSurface ? -fluidSign : fluidSign) * nearest.distance;
+  });
 }
 
 void VolumeMap::buildBallRule() {
@@ -144,26 +178,20 @@ void VolumeMap::computeVolumes(const CubicSplineKernel& kernel) {
   const std::vector<Real>& weights = ballWeights_;
   const Real w0 = kernel.W0(), wholeBall = Real(0.8) * Real(4) / 3 * std::numbers::pi_v<Real> * h * h * h;
   volume_.assign(phi_.size(), Real(0));
-  const auto eachSlice = [&](std::size_t zIndex) {
-    const int k = int(zIndex);
-    for (int j = 0; j < dims_[1]; ++j)
-      for (int i = 0; i < dims_[0]; ++i) {
-        const std::size_t n = node(i, j, k);
-        if (phi_[n] == kFar || phi_[n] >= h + 2 * cell_) continue;  // out of reach: V = 0
-        if (phi_[n] <= -h) {                                        // the whole ball is solid
-          volume_[n] = wholeBall;
-          continue;
-        }
-        const Vector3r x = position(i, j, k);
-        Real sum = 0;
-        for (std::size_t q = 0; q < offsets.size(); ++q) {
-          const Real phi = exactDistance(x + offsets[q]);  // beyond the band: far in the fluid
-          sum += weights[q] * (phi <= 0 ? Real(1) : (phi < h ? kernel.W(phi) / w0 : Real(0)));
-        }
-        volume_[n] = Real(0.8) * sum;
-      }
-  };
-  parallelForDynamic(std::size_t(dims_[2]), eachSlice, 1);  // one z-slice at a time
+  forEachStoredNode([&](int i, int j, int k, std::size_t n) {
+    if (phi_[n] == kFar || phi_[n] >= h + 2 * cell_) return;  // out of reach: V = 0
+    if (phi_[n] <= -h) {                                      // the whole ball is solid
+      volume_[n] = wholeBall;
+      return;
+    }
+    const Vector3r x = position(i, j, k);
+    Real sum = 0;
+    for (std::size_t q = 0; q < offsets.size(); ++q) {
+      const Real phi = exactDistance(x + offsets[q]);  // beyond the band: far in the fluid
+      sum += weights[q] * (phi <= 0 ? Real(1) : (phi < h ? kernel.W(phi) / w0 : Real(0)));
+    }
+    volume_[n] = Real(0.8) * sum;
+  });
 }
 
 Real VolumeMap::exactDistance(const Vector3r& x) const {
@@ -237,10 +265,15 @@ bool VolumeMap::cellOf(const Vector3r& x, std::size_t corners[8], Real weights[8
     if (c[a] < 0 || c[a] >= dims_[a] - 1) return false;
     fractions[a] = u[a] - fl;
   }
+  // Most cells lie inside one brick: one lookup for all eight corners.
+  const bool oneBrick = c[0] % kBrick < kBrick - 1 && c[1] % kBrick < kBrick - 1 && c[2] % kBrick < kBrick - 1;
+  const std::size_t base = oneBrick ? storedIndex(c[0], c[1], c[2]) : kAbsent;
+  if (oneBrick && base == kAbsent) return false;
   for (int corner = 0; corner < 8; ++corner) {
     const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
-    corners[corner] = node(c[0] + dx, c[1] + dy, c[2] + dz);
-    if (phi_[corners[corner]] == kFar) return false;
+    corners[corner] = oneBrick ? base + (std::size_t(dz) * kBrick + std::size_t(dy)) * kBrick + std::size_t(dx)
+                               : storedIndex(c[0] + dx, c[1] + dy, c[2] + dz);
+    if (corners[corner] == kAbsent || phi_[corners[corner]] == kFar) return false;
     weights[corner] = (dx ? fractions[0] : 1 - fractions[0]) * (dy ? fractions[1] : 1 - fractions[1]) *
                       (dz ? fractions[2] : 1 - fractions[2]);
   }
@@ -310,6 +343,7 @@ void VolumeMap::save(StateWriter& out) const {
   out.put("h", h_);
   out.put("dims", std::array<int, 3>{dims_[0], dims_[1], dims_[2]});
   out.put("band", band_);
+  out.putVector("brickSlots", brickSlot_);
   out.putVector("phi", phi_);
   out.putVector("volume", volume_);
   out.put("isBox", isBox_);
@@ -326,8 +360,19 @@ std::unique_ptr<VolumeMap> VolumeMap::load(const StateReader& in) {
   m->cell_ = in.get<Real>("cell");
   m->h_ = in.get<Real>("h");
   const auto dims = in.get<std::array<int, 3>>("dims");
-  for (int a = 0; a < 3; ++a) m->dims_[a] = dims[std::size_t(a)];
+  for (int a = 0; a < 3; ++a) {
+    m->dims_[a] = dims[std::size_t(a)];
+    m->brickDims_[a] = (m->dims_[a] + kBrick - 1) / kBrick;
+  }
   m->band_ = in.get<Real>("band");
+  m->brickSlot_ = in.getVector<std::int32_t>("brickSlots");
+  if (m->brickSlot_.size() != std::size_t(m->brickDims_[0]) * m->brickDims_[1] * m->brickDims_[2])
+    throw InputError(in.file() + ": the volume map's brick table does not match its grid");
+  for (std::size_t b = 0; b < m->brickSlot_.size(); ++b)
+    if (m->brickSlot_[b] >= 0) {
+      if (std::size_t(m->brickSlot_[b]) != m->bricks_.size()) throw InputError(in.file() + ": the volume map's brick table is out of order");
+      m->bricks_.push_back(std::uint32_t(b));
+    }
   m->phi_ = in.getVector<Real>("phi");
   m->volume_ = in.getVector<Real>("volume");
   m->isBox_ = in.get<bool>("isBox");
@@ -337,7 +382,7 @@ std::unique_ptr<VolumeMap> VolumeMap::load(const StateReader& in) {
   m->fluidSign_ = in.get<Real>("fluidSign");
   m->offset_ = in.get<Real>("offset");
   m->thickness_ = in.get<Real>("thickness");
-  const std::size_t nodes = std::size_t(m->dims_[0]) * std::size_t(m->dims_[1]) * std::size_t(m->dims_[2]);
+  const std::size_t nodes = m->bricks_.size() * kBrickNodes;
   if (m->phi_.size() != nodes || m->volume_.size() != nodes)
     throw InputError(in.file() + ": the volume map's node arrays do not match its grid");
   m->buildBallRule();

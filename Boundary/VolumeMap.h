@@ -7,14 +7,18 @@
 //   V(x)    the boundary volume 0.8 * integral over |xi| < h of gamma(Phi(x + xi)) dxi with
 //           gamma = 1 in the solid, W(Phi) / W(0) for 0 < Phi < h, 0 beyond (paper/METHODS.md;
 //           0.8 (2r)^3 is the particle volume, the fluid's convention too).
-// Phi is exact within a band of 2h + 3 cells around the surface (boxes: everywhere, analytic);
-// V is integrated where a particle can meet the boundary, Phi < h + 2 cells. `surfaceOffset`
+// Phi is exact within a band of 2h + 3 cells around the surface (boxes: analytic); V is
+// integrated where a particle can meet the boundary, Phi < h + 2 cells. Only the band is stored:
+// the grid is split into bricks of 8^3 nodes and a brick is kept when it reaches the band (a
+// tank's interior, a body's core and the far corners of its box hold nothing), so memory grows
+// with the surface's area, not with the object's volume. `surfaceOffset`
 // moves the surface that far into the solid (Phi + offset), at most to one cell short of a thin
 // part's mid-plane: the boundary model uses it to put the resting fluid's surface on the mesh.
 // The object's `mapThickness` moves it the other way, into the fluid (Phi - thickness, as
 // SPlisHSPlasH's maps do), by any amount.
 // Meshes must be closed (an open one has no inside: InputError).
 #pragma once
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -51,8 +55,8 @@ class VolumeMap {
   void normalMoments(const Vector3r& x, const CubicSplineKernel& kernel, const std::function<bool(const Vector3r&)>& onPart,
                      Matrix3r& whole, Matrix3r& part) const;
 
+  // The stored nodes (the kept bricks') and their values, brick by brick.
   std::size_t nodeCount() const { return phi_.size(); }
-  // The node values (Phi and V at every grid node, x fastest).
   const std::vector<Real>& distances() const { return phi_; }
   const std::vector<Real>& volumes() const { return volume_; }
 
@@ -66,7 +70,21 @@ class VolumeMap {
 
  private:
   VolumeMap() = default;
-  std::size_t node(int i, int j, int k) const { return (std::size_t(k) * dims_[1] + j) * dims_[0] + i; }
+  static constexpr int kBrick = 4;  // nodes per brick edge
+  static constexpr std::size_t kBrickNodes = std::size_t(kBrick) * kBrick * kBrick;
+  static constexpr std::size_t kAbsent = std::size_t(-1);
+  // Where node (i, j, k) is stored, or kAbsent when its brick was not kept.
+  std::size_t storedIndex(int i, int j, int k) const {
+    const std::int32_t slot =
+        brickSlot_[(std::size_t(k / kBrick) * brickDims_[1] + std::size_t(j / kBrick)) * brickDims_[0] + std::size_t(i / kBrick)];
+    if (slot < 0) return kAbsent;
+    return std::size_t(slot) * kBrickNodes + (std::size_t(k % kBrick) * kBrick + std::size_t(j % kBrick)) * kBrick + std::size_t(i % kBrick);
+  }
+  // Keeps the bricks for which `reachesBand(centre, half diagonal)` holds; phi_ = kFar there.
+  void storeBricks(const std::function<bool(const Vector3r& centre, Real halfDiagonal)>& reachesBand);
+  // f(i, j, k, stored index) for every grid node of a kept brick, in parallel over bricks.
+  template <class NodeFunction>
+  void forEachStoredNode(NodeFunction&& f) const;
   Vector3r position(int i, int j, int k) const { return origin_ + cell_ * Vector3r(Real(i), Real(j), Real(k)); }
   // Trilinear weights of x's cell (and the cell's fractions); false off the grid or in a cell
   // with a node outside the exact band.
@@ -86,6 +104,9 @@ class VolumeMap {
   Real cell_ = 0;
   Real h_ = 0;
   int dims_[3] = {0, 0, 0};
+  int brickDims_[3] = {0, 0, 0};
+  std::vector<std::int32_t> brickSlot_;  // per brick (x fastest): its slot in phi_ / volume_, or -1
+  std::vector<std::uint32_t> bricks_;    // per slot: the brick's index
   Real band_ = 0;  // |Phi| below this is exact; beyond, nodes hold kFar
   std::vector<Real> phi_, volume_;
   std::vector<Vector3r> ballOffsets_;  // quadrature points of the ball |xi| < h and their weights

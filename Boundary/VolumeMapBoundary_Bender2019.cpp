@@ -57,7 +57,8 @@ VolumeMapBoundary_Bender2019::VolumeMapBoundary_Bender2019(const Params& params,
 BoundaryEstimate VolumeMapBoundary_Bender2019::estimate(const std::vector<BoundaryObject>& objects,
                                                       const CubicSplineKernel& kernel) const {
   // VolumeMap's grid: the bounding box grown by its band (2h + 3 cells), the largest surface
-  // offset (4r) and a cell, one node per cell corner; a distance and a volume per node.
+  // offset (4r), the thickness and a cell, one node per cell corner; a distance and a volume per
+  // node. An upper bound: only the bricks that reach the band are stored.
   BoundaryEstimate e;
   for (const BoundaryObject& o : objects) {
     const double cell = double(cellSizeOf(o)),

@@ -14,7 +14,7 @@ namespace consph {
 
 namespace {
 // Bump when VolumeMap's construction or its saved blocks change: old files then miss.
-constexpr int kFormatVersion = 2;  // 2: the object's mapThickness
+constexpr int kFormatVersion = 3;  // 2: the object's mapThickness; 3: stored in bricks
 
 // The inputs a map depends on, as bytes: hashed for the file name, stored in the file and
 // compared on load.

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "Boundary/VolumeMap.h"
@@ -137,6 +138,34 @@ TEST(VolumeMap, ThicknessMovesTheSurfaceIntoTheFluid) {
     ++compared;
   }
   EXPECT_GE(compared, 10);
+}
+
+// Only the band is stored (bricks of nodes that reach it): inside a tank, every point within the
+// band (2h + 3 cells) of a wall has its distance, while the middle of a tank wider than twice
+// the band plus the bricks' slack holds no nodes; the same for a mesh body's far core. The
+// bundled DamBreak tank at r = 0.0125 stores 8.0 M of its grid's 13.3 M nodes (measured).
+TEST(VolumeMap, OnlyTheBandAroundTheSurfaceIsStored) {
+  const CubicSplineKernel kernel(4 * kR);
+  const Real band = 2 * 4 * kR + 3 * kR;
+  const VolumeMap tank(boxObject(Vector3r::Zero(), Vector3r(2, 2, 2), true), kernel, kR);
+  std::size_t dense = 1;
+  for (int a = 0; a < 3; ++a) dense *= std::size_t(std::ceil((2 + 2 * (band + kR)) / kR)) + 1;
+  EXPECT_LT(tank.nodeCount(), dense);  // 1.06 M of 1.16 M: a 2 m tank is mostly band
+  for (Real y = Real(0.5) * kR; y < band - kR; y += Real(0.37) * kR)
+    for (const Vector3r& x : {Vector3r(1, y, Real(1)), Vector3r(Real(0.3), Real(1.1), 2 - y), Vector3r(y, y, y)})
+      EXPECT_LT(tank.distance(x), band) << x.transpose();  // stored, and the exact distance
+  EXPECT_NEAR(tank.distance(Vector3r(1, 3 * kR, 1)), 3 * kR, 1e-9);
+  EXPECT_EQ(tank.distance(Vector3r(1, 1, 1)), std::numeric_limits<Real>::max());  // the middle: not stored
+  // A ball of radius 0.5 m (the bundled sphere mesh): the core holds nothing, the band does.
+  TriangleMesh mesh = loadMesh(test::dataPath("meshes/sphere.obj"));
+  BoundaryObject ball;
+  ball.name = ball.path = "ball";
+  ball.mesh = mesh;
+  transformMesh(ball.mesh, Vector3r::Constant(Real(0.5)), Vector3r::UnitX(), 0, Vector3r::Zero());
+  const VolumeMap body(ball, kernel, kR);
+  EXPECT_EQ(body.distance(Vector3r::Zero()), std::numeric_limits<Real>::max());
+  EXPECT_NEAR(body.distance(Vector3r(Real(0.5) - 3 * kR, 0, 0)), -3 * kR, Real(0.2) * kR);
+  EXPECT_NEAR(body.distance(Vector3r(0, Real(0.5) + 5 * kR, 0)), 5 * kR, Real(0.2) * kR);
 }
 
 TEST(VolumeMap, AnOpenMeshIsAnErrorNamingTheObject) {
