@@ -109,8 +109,9 @@ def test_thread_counts_are_clamped_and_end_times_finite(tank):
     for bad in (float("nan"), float("inf")):
         with pytest.raises(ValueError, match="until must be a finite time"):
             tank.run(until=bad)
-    with pytest.raises(ValueError, match="output_fps: must be finite"):
-        tank.output_fps = float("inf")
+    for bad in (float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="output_fps: must be finite"):
+            tank.output_fps = bad
 
 
 def test_failed_writes_raise_output_error(tank, tmp_path):

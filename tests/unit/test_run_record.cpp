@@ -37,6 +37,25 @@ TEST(RunRecordFailures, SummaryJsonDashIsStandardOutput) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/-"));
 }
 
+// The case: /dev/stdout (a symlink to the process's fd 1, here a pipe) is written
+// through, never renamed over (as root, the rename replaced the machine's /dev/stdout).
+TEST(RunRecordFailures, SummaryJsonToDevStdoutWritesThroughTheLink) {
+  const std::string dir = tempDir("consph_record_devstdout");
+  const std::string scene = writeScene(dir, test::tinyTankScene(0.01));
+  const bool wasLink = std::filesystem::is_symlink("/dev/stdout");
+  FILE* pipe = popen(("cd " + dir + " && " + kCli + " " + scene + " --no-output --summary-json /dev/stdout 2>/dev/null").c_str(), "r");
+  std::string out;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof(buffer), pipe)) out += buffer;
+  ASSERT_EQ(pclose(pipe), 0);
+  // The JSON, then the text summary (stdout is not "-" here, so the CLI prints it too).
+  const std::size_t end = out.find("\n}");
+  ASSERT_NE(end, std::string::npos) << out;
+  EXPECT_EQ(json::parse(out.substr(0, end + 2))["status"], "ok") << out;
+  EXPECT_EQ(std::filesystem::is_symlink("/dev/stdout"), wasLink);
+  EXPECT_FALSE(std::filesystem::is_regular_file(std::filesystem::symlink_status("/dev/stdout")));
+}
+
 TEST(RunRecordFailures, FifoAndSymlinkTargetsAreWrittenThrough) {
   const std::string dir = tempDir("consph_record_fifo");
   ASSERT_EQ(mkfifo((dir + "/pipe").c_str(), 0600), 0);
