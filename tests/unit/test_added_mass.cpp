@@ -51,7 +51,9 @@ TEST(AddedMass, BodyAndTouchingFluidGainExactlyTheImpulses) {
   EXPECT_NEAR((P - N).norm() / N.norm(), 0, roundoff(1e-12, 200 * kFloatEps));
   EXPECT_NEAR((A - angular).norm() / angular.norm(), 0, roundoff(1e-10, 2e4 * kFloatEps));
   for (std::size_t i = 0; i < x.size(); ++i) {
-    if (i % 4 == 3) EXPECT_EQ(v[i], v0[i]);  // only the touching particles are moved
+    if (i % 4 == 3) {
+      EXPECT_EQ(v[i], v0[i]);  // only the touching particles are moved
+    }
   }
 }
 
