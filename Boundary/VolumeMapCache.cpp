@@ -44,6 +44,25 @@ std::uint64_t fnv1a(const std::string& bytes) {
 }
 
 std::string label(const BoundaryObject& o) { return o.name.empty() ? o.path : "'" + o.name + "' (" + o.path + ")"; }
+
+// Whether `file` is a map this version can never load: volumemap_KEY.state (format 1-3 named
+// no version) or volumemap_vN_KEY.state with another N. Other files are never touched.
+bool olderFormatFile(const std::string& file) {
+  const std::string prefix = "volumemap_", suffix = ".state";
+  if (file.size() <= prefix.size() + suffix.size() || file.rfind(prefix, 0) != 0 ||
+      file.compare(file.size() - suffix.size(), suffix.size(), suffix) != 0)
+    return false;
+  const std::string middle = file.substr(prefix.size(), file.size() - prefix.size() - suffix.size());
+  const auto hex = [](const std::string& t) {
+    return t.size() == 16 && t.find_first_not_of("0123456789abcdef") == std::string::npos;
+  };
+  if (hex(middle)) return true;
+  const std::size_t underscore = middle.find('_');
+  if (middle[0] != 'v' || underscore == std::string::npos || !hex(middle.substr(underscore + 1))) return false;
+  const std::string version = middle.substr(1, underscore - 1);
+  return !version.empty() && version.find_first_not_of("0123456789") == std::string::npos &&
+         version != std::to_string(kFormatVersion);
+}
 }  // namespace
 
 VolumeMapCache::VolumeMapCache(std::string directory, LogSink log) : directory_(std::move(directory)), log_(std::move(log)) {}
@@ -51,7 +70,8 @@ VolumeMapCache::VolumeMapCache(std::string directory, LogSink log) : directory_(
 std::string VolumeMapCache::pathOf(const BoundaryObject& object, const CubicSplineKernel& kernel, Real cellSize, Real surfaceOffset) const {
   if (directory_.empty()) return "";
   char name[64];
-  std::snprintf(name, sizeof(name), "volumemap_%016llx.state", (unsigned long long)fnv1a(mapInputs(object, kernel, cellSize, surfaceOffset)));
+  std::snprintf(name, sizeof(name), "volumemap_v%d_%016llx.state", kFormatVersion,
+                (unsigned long long)fnv1a(mapInputs(object, kernel, cellSize, surfaceOffset)));
   return (std::filesystem::path(directory_) / name).string();
 }
 
@@ -108,6 +128,11 @@ std::unique_ptr<VolumeMap> VolumeMapCache::obtain(const BoundaryObject& object, 
   char text[96];
   std::snprintf(text, sizeof(text), " (%zu nodes, %.3f s)", map->nodeCount(), buildSeconds);
   say(LogLevel::Info, "volume map of " + label(object) + ": built and stored in " + path + text);
+  // Maps of an older format would only ever miss: they go when a new one is stored.
+  std::size_t removed = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(directory_, ec))
+    if (olderFormatFile(entry.path().filename().string()) && std::filesystem::remove(entry.path(), ec)) ++removed;
+  if (removed > 0) say(LogLevel::Info, "volume map cache: removed " + std::to_string(removed) + " map(s) of an older format from " + directory_);
   return map;
 }
 

@@ -1,7 +1,8 @@
 // Built volume maps kept on disk, so that a scene's second run loads its maps instead of
 // computing them again (a two-dragon scene: minutes). A map is stored as
-// DIRECTORY/volumemap_KEY.state (Utilities/StateArchive.h), KEY a 64-bit FNV-1a hash of
-// everything that changes the map: the format version, the build's precision, the object's
+// DIRECTORY/volumemap_vN_KEY.state (Utilities/StateArchive.h), N the format version (maps of
+// other versions are removed when a map is stored: they could never load), KEY a 64-bit FNV-1a
+// hash of everything that changes the map: the format version, the build's precision, the object's
 // world-space mesh (so its transform too), box and inversion, the kernel radius, the cell size,
 // the surface offset and the thickness. The file repeats those inputs and a load checks them, so a
 // hash collision or a stale file is rebuilt, never used. Files are written under a unique temporary

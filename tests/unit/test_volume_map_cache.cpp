@@ -96,6 +96,27 @@ TEST(VolumeMapCache, ChangedParametersOrTransformsMissAndDamagedFilesAreRebuilt)
   std::filesystem::remove_all(cache);
 }
 
+// A format change leaves maps that could never load: storing a map removes them (files named as
+// an older version wrote them), and nothing else in the folder.
+TEST(VolumeMapCache, StoringAMapRemovesMapsOfOlderFormatsOnly) {
+  const std::string cache = scratchCache("formats");
+  std::filesystem::create_directories(cache);
+  const std::vector<std::string> old = {"volumemap_0123456789abcdef.state", "volumemap_v2_0123456789abcdef.state"};
+  const std::vector<std::string> kept = {"notes.txt", "volumemap_mine.state", "volumemap_v2_short.state", "volumemap_vx_0123456789abcdef.state"};
+  for (const auto& name : old) std::ofstream(cache + "/" + name) << "old";
+  for (const auto& name : kept) std::ofstream(cache + "/" + name) << "mine";
+  CapturedLog log;
+  auto sim = simulationFromJson(cachedScene(cache), log.sink());
+  for (const auto& name : old) EXPECT_FALSE(std::filesystem::exists(cache + "/" + name)) << name;
+  for (const auto& name : kept) EXPECT_TRUE(std::filesystem::exists(cache + "/" + name)) << name;
+  const std::string stored = mapsOf(*sim).cache().pathOf(sim->scene().boundaries[1], sim->kernel(), Real(0.05), 0);
+  EXPECT_NE(std::filesystem::path(stored).filename().string().rfind("volumemap_v", 0), std::string::npos);
+  bool said = false;
+  for (const std::string& line : log.infos) said |= line.find("removed 2 map(s) of an older format") != std::string::npos;
+  EXPECT_TRUE(said);
+  std::filesystem::remove_all(cache);
+}
+
 TEST(VolumeMapCache, EmptyCacheFolderTurnsItOff) {
   auto sim = simulationFromJson(cachedScene(""));
   EXPECT_EQ(mapsOf(*sim).cache().loads(), 0u);
