@@ -80,6 +80,7 @@ void Simulation::saveCheckpoint(const std::string& path) const {
   out.put("dt", dt_);
   out.put("dtPrevious", dtPrevious_);
   out.put("timeStepCap", timeStepCap_);
+  out.put("lastPressureIterations", lastPressureIterations_);
   out.put("stats", stats_);
   out.put("nextId", nextId_);
   out.put("emittersEndTime", emittersEndTime_);
@@ -160,6 +161,8 @@ void Simulation::restoreCheckpoint(const std::string& path) {
   dt_ = in.get<Real>("dt");
   dtPrevious_ = in.get<Real>("dtPrevious");
   timeStepCap_ = in.get<Real>("timeStepCap");
+  // Absent from checkpoints written before timeStepControl existed (they ran "cfl").
+  lastPressureIterations_ = in.has("lastPressureIterations") ? in.get<int>("lastPressureIterations") : 0;
   stats_ = in.get<SimulationStats>("stats");
   nextId_ = in.get<Index>("nextId");
   emittersEndTime_ = in.get<Real>("emittersEndTime");

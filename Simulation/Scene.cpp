@@ -404,6 +404,11 @@ void parseSimulationSection(const json& scene, const LogSink& log, SceneDescript
             {{"particleRadius", ParamType::Real, 0.025, "particle radius r, m (kernel support 4r)", 1e-5, 10},
              {"gravity", ParamType::Vector3, json::array({0, -9.81, 0}), "gravitational acceleration, m/s^2"},
              {"cflFactor", ParamType::Real, 1.0, "dt = cflFactor 0.4 (2r) / max|v|", 1e-3, 10},
+             {"timeStepControl", ParamType::String, "cfl",
+              "cfl: the CFL step; iterations: the CFL step, also shrunk 10 % after a step whose density solve took more "
+              "than 10 iterations and grown 10 % (up to the CFL step) after one that took fewer than 5 (SPlisHSPlasH's "
+              "cflMethod 2)",
+              -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"cfl", "iterations"}},
              {"minTimeStep", ParamType::Real, 1e-4, "lower bound of the adaptive time step, s", 1e-8, 1},
              {"maxTimeStep", ParamType::Real, kDefaultMaxTimeStep,
               "upper bound of the adaptive time step, s; when not given: min(0.005, CFL step at the scene's speed scale sqrt(v0^2 + 2 g H), 0.125 h^2 / nu of an explicit viscosity)",
@@ -423,6 +428,7 @@ void parseSimulationSection(const json& scene, const LogSink& log, SceneDescript
   s.particleRadius = sp.real("particleRadius");
   s.gravity = sp.vector3("gravity");
   s.cflFactor = sp.real("cflFactor");
+  s.iterationFeedback = sp.string("timeStepControl") == "iterations";
   s.minTimeStep = sp.real("minTimeStep");
   s.maxTimeStep = sp.real("maxTimeStep");
   s.maxTimeStepGiven = sp.isSet("maxTimeStep");

@@ -55,6 +55,9 @@ struct SceneDescription {
   // Given in the scene: then maxTimeStep is the cap as it stands; otherwise the cap is
   // min(maxTimeStep, the resolution's and the physics' bounds; Simulation's timeStepCap).
   bool maxTimeStepGiven = false;
+  // "iterations": the CFL step, also shrunk 10 % after a step whose density solve took more than
+  // 10 iterations and grown 10 % (never beyond the CFL step) after one that took fewer than 5.
+  bool iterationFeedback = false;
   Real stopAt = 1;
   Real particleSpacing = Real(1.8566);  // lattice spacing of fluid blocks, in particle radii (0.8^(1/3) 2)
   int sortInterval = 50;

@@ -371,6 +371,7 @@ void Simulation::step() {
     pressureSolver_->solve(ctx);
   }
   const PressureSolverStats& ps = pressureSolver_->stats();
+  lastPressureIterations_ = ps.pressureIterations;
   stats_.pressureIterations += ps.pressureIterations;
   stats_.divergenceIterations += ps.divergenceIterations;
   // Wall loads: the solver's reaction on every boundary sample, for the bodies and the probes.
@@ -500,6 +501,15 @@ void Simulation::updateTimeStep() {
       parallelMax(f.size(), Real(0), [&](std::size_t i) { return (f.velocities[i] + dtOld * f.accelerations[i]).squaredNorm(); });
   Real dt = timeStepCap_;
   if (maxSpeed2 > 0) dt = cflTimeStep(scene_.cflFactor, std::sqrt(maxSpeed2));
+  // timeStepControl "iterations" (SPlisHSPlasH's cflMethod 2): a solve that needed many
+  // iterations says the step is too long for the pressure to settle within it, whatever the
+  // speeds say; the step then shrinks 10 % per step until the solves are cheap again, and grows
+  // back by 10 % per step, never beyond the CFL step. A solver without iterations (WCSPH: 0)
+  // keeps the CFL step.
+  if (scene_.iterationFeedback && lastPressureIterations_ > 0) {
+    const Real factor = lastPressureIterations_ > 10 ? Real(0.9) : lastPressureIterations_ < 5 ? Real(1.1) : Real(1);
+    dt = std::min(dt, factor * dtOld);
+  }
   dt_ = std::clamp(dt, scene_.minTimeStep, timeStepCap_);
 }
 

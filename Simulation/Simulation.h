@@ -175,6 +175,7 @@ class Simulation {
   Real emittersEndTime_ = 0;            // the end time the emitters' budgets and the storage cover
 
   Real time_ = 0, dt_ = 0, dtPrevious_ = 0, timeStepCap_ = 0;
+  int lastPressureIterations_ = 0;  // the last step's density solve, for timeStepControl "iterations"
   Real densityRelaxationTime_ = 0;  // s, see chooseTimeStepCap
   bool hasDomain_ = false;
   Vector3r domainMin_, domainMax_;

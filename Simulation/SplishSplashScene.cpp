@@ -212,7 +212,7 @@ Configuration convertConfiguration(const json& value, UnhonouredKeys& unhonoured
     s.unhonoured("cflMaxTimeStepSize", "cflMethod 0 runs at the fixed timeStepSize");
     s.unhonoured("cflFactor", "cflMethod 0 runs at the fixed timeStepSize");
   } else {
-    if (cfl == 2) unhonoured.add("cflMethod", s.pathOf("cflMethod"), "2 (step also adapted to the solver's iterations): consph adapts to the CFL condition only");
+    if (cfl == 2) sim["timeStepControl"] = "iterations";
     if (s.has("cflFactor")) sim["cflFactor"] = s.number("cflFactor", 1);
     if (s.has("cflMinTimeStepSize")) sim["minTimeStep"] = s.number("cflMinTimeStepSize", 1e-4);
     if (s.has("cflMaxTimeStepSize")) sim["maxTimeStep"] = s.number("cflMaxTimeStepSize", 0.005);

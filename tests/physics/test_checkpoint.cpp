@@ -58,23 +58,21 @@ std::string scratchDir(const std::string& name) {
   return dir.string();
 }
 
-}  // namespace
-
-TEST(Checkpoint, RestartContinuesBitForBit) {
-  OneThread oneThread;
+// N steps of `scene` equal k steps, a checkpoint, a restart from it and N - k steps, bit for bit.
+void restartContinuesBitForBit(const json& scene) {
   constexpr int N = 40, k = 17;  // k is no multiple of sortInterval: the order must survive too
   const std::string path = scratchDir("bits") + "/state.ckpt";
 
-  auto straight = simulationFromJson(checkpointScene());
+  auto straight = simulationFromJson(scene);
   for (int s = 0; s < N; ++s) straight->step();
 
-  auto first = simulationFromJson(checkpointScene());
+  auto first = simulationFromJson(scene);
   for (int s = 0; s < k; ++s) first->step();
   first->saveCheckpoint(path);
   const std::size_t particlesAtK = first->fluid().size();
   first.reset();
 
-  auto restarted = restartedSimulation(checkpointScene(), path);
+  auto restarted = restartedSimulation(scene, path);
   ASSERT_EQ(restarted->stepCount(), std::size_t(k));
   ASSERT_EQ(restarted->fluid().size(), particlesAtK);
   for (int s = k; s < N; ++s) restarted->step();
@@ -103,6 +101,19 @@ TEST(Checkpoint, RestartContinuesBitForBit) {
   }
   EXPECT_EQ(a.q.coeffs(), b.q.coeffs());
   std::filesystem::remove_all(std::filesystem::path(path).parent_path());
+}
+
+}  // namespace
+
+TEST(Checkpoint, RestartContinuesBitForBit) {
+  OneThread oneThread;
+  // Both step controls: "iterations" carries the last solve's iteration count across the restart.
+  for (const char* control : {"cfl", "iterations"}) {
+    SCOPED_TRACE(control);
+    json scene = checkpointScene();
+    scene["simulation"]["timeStepControl"] = control;
+    restartContinuesBitForBit(scene);
+  }
 }
 
 TEST(Checkpoint, IntervalWritesRunFilesAndARestartContinuesTheSeries) {

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
+#include <vector>
 
 #include "TestUtil.h"
 
@@ -51,6 +53,52 @@ TEST(TimeStep, AGivenMaxTimeStepStands) {
   EXPECT_DOUBLE_EQ(test::simulationFromJson(s)->timeStepCap(), 0.004);
   s["simulation"]["maxTimeStep"] = 0.0002;
   EXPECT_DOUBLE_EQ(test::simulationFromJson(s)->timeStepCap(), 0.0002);
+}
+
+// timeStepControl "iterations" (SPlisHSPlasH's cflMethod 2): after a density solve of more than
+// 10 iterations the next step is at most 0.9 times this one, after one of fewer than 5 at most
+// 1.1 times (and never beyond the CFL step, which "cfl" takes). A dam break solved to 0.001 %
+// needs about 11 iterations per step at the CFL step; the feedback trades them for shorter steps
+// (measured, 0.4 s: 87 -> 152 steps, 11.2 -> 7.3 iterations per step; on the bundled DamBreak,
+// 0.6 s: 169 -> 288 steps, 15.6 -> 8.2 iterations, 3.5 -> 4.6 s of wall time on 2 threads).
+TEST(TimeStep, IterationFeedbackShrinksTheStepAfterExpensiveSolves) {
+  struct Run {
+    std::vector<double> dts;
+    std::vector<long long> iterations;
+  };
+  auto run = [](const std::string& control) {
+    json s = json::parse(R"({
+      "simulation": {"particleRadius": 0.025, "pressureSolver": {"type": "DFSPH", "maxError": 0.001}},
+      "fluids": [{"blocks": [{"min": [0, 0, 0], "max": [0.4, 0.8, 0.2]}]}],
+      "boundaries": [{"name": "tank", "box": {"min": [0, 0, 0], "max": [1.2, 1.2, 0.2]}, "inverted": true}]})");
+    s["simulation"]["timeStepControl"] = control;
+    auto sim = test::simulationFromJson(s);
+    Run r;
+    long long before = 0;
+    while (sim->time() < Real(0.4)) {
+      sim->step();
+      r.dts.push_back(double(sim->dt()));
+      r.iterations.push_back(sim->stats().pressureIterations - before);
+      before = sim->stats().pressureIterations;
+    }
+    return r;
+  };
+  const Run feedback = run("iterations"), cfl = run("cfl");
+  int shrunk = 0;
+  for (std::size_t n = 1; n < feedback.dts.size(); ++n) {
+    const long long before = feedback.iterations[n - 1];
+    const double factor = before > 10 ? 0.9 : before < 5 ? 1.1 : 1.0;
+    EXPECT_LE(feedback.dts[n], factor * feedback.dts[n - 1] * (1 + 1e-12)) << "step " << n << ", " << before << " iterations before";
+    shrunk += before > 10 && feedback.dts[n] < feedback.dts[n - 1];
+  }
+  const auto perStep = [](const Run& r) {
+    return double(std::accumulate(r.iterations.begin(), r.iterations.end(), 0LL)) / double(r.iterations.size());
+  };
+  std::printf("[ time step ] to 0.4 s: feedback %zu steps, %.2f iterations per step; CFL %zu steps, %.2f\n", feedback.dts.size(),
+              perStep(feedback), cfl.dts.size(), perStep(cfl));
+  EXPECT_GE(shrunk, 3) << "the expensive solves shrank the step";
+  EXPECT_LT(perStep(feedback), perStep(cfl));
+  EXPECT_GT(feedback.dts.size(), cfl.dts.size());
 }
 
 // A fine column dropped from rest at the defaults: it runs. r = 0.006, 0.4 m deep (2240

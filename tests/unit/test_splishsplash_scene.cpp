@@ -205,7 +205,9 @@ TEST(SplishSplashScene, DragAndEmittersMapToTheirPlugins) {
   EXPECT_EQ(emitters[1].start, Real(2));
   EXPECT_EQ(emitters[1].end, Real(5));
   const auto keys = unhonouredKeys(e->log);
-  EXPECT_EQ(keys.count("cflMethod"), 1u);  // 2: iteration-based step control
+  EXPECT_EQ(keys.count("cflMethod"), 0u);  // 2: iteration-based step control, honoured
+  EXPECT_TRUE(e->scene.iterationFeedback);
+  EXPECT_FALSE(load("DamBreakModel")->scene.iterationFeedback);  // cflMethod 1
   EXPECT_EQ(keys.count("maxEmitterParticles"), 1u);
   EXPECT_EQ(keys.count("emitterBoxMin"), 0u);  // without emitterReuseParticles the box does nothing in SPlisHSPlasH either
   EXPECT_FALSE(e->scene.fluids[0].removeOutside);
