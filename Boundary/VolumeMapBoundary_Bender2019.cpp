@@ -19,7 +19,7 @@ namespace {
 const PluginRegistration<BoundaryModel> registration{
     "VolumeMap",
     "Implicit boundaries: signed distance and boundary volume on a grid, one virtual boundary particle per fluid "
-    "particle and object (Bender et al. 2019); no rigid contact between bodies",
+    "particle and object (Bender et al. 2019); rigid contact through contact points of its own",
     VolumeMapBoundary_Bender2019::parameters(),
     [](const Params& p, const PluginContext& c) -> std::unique_ptr<BoundaryModel> {
       const Real spacing = c.particleSpacing > 0 ? c.particleSpacing : Real(1.8566) * c.particleRadius;

@@ -21,8 +21,8 @@
 // particle, and the pressure impulses on it go to the body like those on an Akinci sample
 // (Eq. 35; RigidBodySystem takes their torque at the fluid particle). Their
 // surfaces always move D - d/2 into the solid, as Akinci layers do, so that a body displaces
-// its mesh's volume. There are no sample layers, so rigid contact (RigidContact) does not see
-// these bodies: use Akinci2012 where bodies must collide with each other or rest on a wall.
+// its mesh's volume. There are no sample layers for rigid contact to work on, so RigidBodySystem
+// samples contact points on every surface of its own (docs/boundary-models.md).
 #pragma once
 #include <memory>
 
