@@ -96,6 +96,7 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
     domainMax_ += margin;
   }
   speedScale_ = sceneSpeedScale(scene_);
+  checkStartInsideDomain();
   if (bodies_ && bodies_->hasDynamic()) guardBodies();
   chooseTimeStepCap();
   if (!scene_.probes.empty()) {
@@ -170,6 +171,35 @@ void Simulation::chooseTimeStepCap() {
   log_(LogLevel::Info, why.str());
 }
 
+namespace {
+// "(x, y, z)", as the run's other messages write a point.
+std::string pointText(const Vector3r& x) {
+  std::ostringstream s;
+  s << "(" << x[0] << ", " << x[1] << ", " << x[2] << ")";
+  return s.str();
+}
+}  // namespace
+
+void Simulation::checkStartInsideDomain() const {
+  // What starts outside the domain would stop the first step as "leaked through a boundary or
+  // blew up": the scene is wrong, not the run, so it is an input error naming the cause.
+  if (!hasDomain_) return;
+  const std::string domain = pointText(domainMin_) + " - " + pointText(domainMax_) +
+                             (scene_.hasDomain ? "" : " (the static boundaries' box grown by 5 % and h; simulation.domain sets it)");
+  const FluidModel& f = *fluid_;
+  const auto outsideDomain = [&](const Vector3r& x) { return !insideBox(x, domainMin_, domainMax_); };
+  const std::size_t outside = parallelSum<std::size_t>(f.size(), [&](std::size_t i) { return outsideDomain(f.positions[i]); });
+  if (outside > 0)
+    throw InputError(scene_.fluids[0].path + ": " + std::to_string(outside) + " of the fluid's " + std::to_string(f.size()) +
+                     " particles start outside the domain " + domain + ", the first at " +
+                     pointText(*std::find_if(f.positions.begin(), f.positions.end(), outsideDomain)));
+  const auto& emitters = scene_.fluids[0].emitters;
+  for (std::size_t e = 0; e < emitters.size(); ++e)
+    if (outsideDomain(emitters[e].position))
+      throw InputError(scene_.fluids[0].path + ".emitters[" + std::to_string(e) + "].position: " + pointText(emitters[e].position) +
+                       " is outside the domain " + domain);
+}
+
 void Simulation::guardBodies() {
   // Where a body may go: the scene's domain, or the fluid's (the static objects' box) grown to
   // hold everything at t = 0 (a body dropped from above a floor slab starts outside the slab's box).
@@ -196,6 +226,14 @@ void Simulation::guardBodies() {
     labels.push_back(o.name.empty() ? o.path : "'" + o.name + "' (" + o.path + ")");
   }
   const RigidBodyGuard::Limits limits = RigidBodyGuard::limitsFor(speedScale_.speed, has, lo, hi);
+  // The guard would stop the first step on a body the scene's domain leaves out: an input error.
+  for (std::size_t i = 0; i < bodies_->bodies().size(); ++i) {
+    const RigidBody& b = bodies_->bodies()[i];
+    if (b.motion == BodyMotion::Dynamic && has && !insideBox(b.x, lo, hi)) {
+      throw InputError("simulation.domain: the dynamic body " + labels[i] + " starts outside it: its centre of mass is at " +
+                       pointText(b.x) + ", the domain " + pointText(lo) + " - " + pointText(hi));
+    }
+  }
   bodyGuard_ = std::make_unique<RigidBodyGuard>(bodies_->bodies(), labels, limits);
   {
     std::ostringstream s;

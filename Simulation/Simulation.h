@@ -126,6 +126,8 @@ class Simulation {
   void initializeFluid();
   // The dynamic bodies' checks (speed, domain, NaN) and the warning for overlaps at t = 0.
   void guardBodies();
+  // InputError when the initial fluid or an emitter lies outside the escape domain.
+  void checkStartInsideDomain() const;
   // The cap of the adaptive step: maxTimeStep when the scene gives it, else the bound from the
   // resolution and the physics (CFL at the speed scale, explicit forces' stability).
   void chooseTimeStepCap();
