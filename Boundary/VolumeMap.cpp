@@ -66,11 +66,9 @@ void VolumeMap::storeBricks(const std::function<bool(const Vector3r& centre, Rea
   const std::size_t brickCount = std::size_t(brickDims_[0]) * brickDims_[1] * brickDims_[2];
   std::vector<char> keep(brickCount, 0);
   parallelForDynamic(brickCount, [&](std::size_t b) {
-    const int bi = int(b % std::size_t(brickDims_[0])), bj = int(b / std::size_t(brickDims_[0]) % std::size_t(brickDims_[1])),
-              bk = int(b / (std::size_t(brickDims_[0]) * brickDims_[1]));
-    const Vector3r first = position(bi * kBrick, bj * kBrick, bk * kBrick);
-    const Vector3r last = position(std::min(bi * kBrick + kBrick, dims_[0]) - 1, std::min(bj * kBrick + kBrick, dims_[1]) - 1,
-                                   std::min(bk * kBrick + kBrick, dims_[2]) - 1);
+    int begin[3], end[3];
+    brickNodes(b, begin, end);
+    const Vector3r first = position(begin[0], begin[1], begin[2]), last = position(end[0] - 1, end[1] - 1, end[2] - 1);
     keep[b] = reachesBand(Real(0.5) * (first + last), Real(0.5) * (last - first).norm() + Real(1e-6) * cell_);
   }, 64);
   brickSlot_.assign(brickCount, -1);
@@ -83,15 +81,23 @@ void VolumeMap::storeBricks(const std::function<bool(const Vector3r& centre, Rea
   phi_.assign(bricks_.size() * kBrickNodes, kFar);
 }
 
+void VolumeMap::brickNodes(std::size_t brick, int begin[3], int end[3]) const {
+  const std::size_t index[3] = {brick % std::size_t(brickDims_[0]), brick / std::size_t(brickDims_[0]) % std::size_t(brickDims_[1]),
+                                brick / (std::size_t(brickDims_[0]) * std::size_t(brickDims_[1]))};
+  for (int a = 0; a < 3; ++a) {
+    begin[a] = int(index[a]) * kBrick;
+    end[a] = std::min(begin[a] + kBrick, dims_[a]);  // the last brick of an axis may be cut short
+  }
+}
+
 template <class NodeFunction>
 void VolumeMap::forEachStoredNode(NodeFunction&& f) const {
   parallelForDynamic(bricks_.size(), [&](std::size_t slot) {
-    const std::size_t b = bricks_[slot];
-    const int bi = int(b % std::size_t(brickDims_[0])), bj = int(b / std::size_t(brickDims_[0]) % std::size_t(brickDims_[1])),
-              bk = int(b / (std::size_t(brickDims_[0]) * brickDims_[1]));
-    for (int k = bk * kBrick; k < std::min(bk * kBrick + kBrick, dims_[2]); ++k)
-      for (int j = bj * kBrick; j < std::min(bj * kBrick + kBrick, dims_[1]); ++j)
-        for (int i = bi * kBrick; i < std::min(bi * kBrick + kBrick, dims_[0]); ++i) f(i, j, k, storedIndex(i, j, k));
+    int begin[3], end[3];
+    brickNodes(bricks_[slot], begin, end);
+    for (int k = begin[2]; k < end[2]; ++k)
+      for (int j = begin[1]; j < end[1]; ++j)
+        for (int i = begin[0]; i < end[0]; ++i) f(i, j, k, storedIndex(i, j, k));
   }, 1);
 }
 

@@ -80,6 +80,8 @@ class VolumeMap {
     if (slot < 0) return kAbsent;
     return std::size_t(slot) * kBrickNodes + (std::size_t(k % kBrick) * kBrick + std::size_t(j % kBrick)) * kBrick + std::size_t(i % kBrick);
   }
+  // The grid nodes [begin, end) of brick `brick` (x fastest in the brick index).
+  void brickNodes(std::size_t brick, int begin[3], int end[3]) const;
   // Keeps the bricks for which `reachesBand(centre, half diagonal)` holds; phi_ = kFar there.
   void storeBricks(const std::function<bool(const Vector3r& centre, Real halfDiagonal)>& reachesBand);
   // f(i, j, k, stored index) for every grid node of a kept brick, in parallel over bricks.
