@@ -581,13 +581,9 @@ void Simulation::checkState() {
     return s.str();
   };
   if (firstBad < n) throw SimulationError(where(firstBad) + " has a non-finite position, velocity or pressure (NaN/inf): the simulation blew up");
-  if (firstOut < n) {
-    const Vector3r& x = f.positions[firstOut];
-    std::ostringstream s;
-    s << where(firstOut) << " left the domain at (" << x[0] << ", " << x[1] << ", " << x[2]
-      << "): it leaked through a boundary or the simulation blew up";
-    throw SimulationError(s.str());
-  }
+  if (firstOut < n)
+    throw SimulationError(where(firstOut) + " left the domain at " + pointText(f.positions[firstOut]) +
+                          ": it leaked through a boundary or the simulation blew up");
   if (stats_.consecutiveCapHits >= std::size_t(scene_.iterationCapSteps)) {
     std::ostringstream s;
     s << "step " << stats_.steps << ", t = " << time_ << " s: the pressure solver hit its iteration cap in "
