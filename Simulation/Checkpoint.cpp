@@ -176,6 +176,7 @@ void Simulation::restoreCheckpoint(const std::string& path) {
   resumed_.bodyFrames = framesFromText(in.bytes("output/bodyFrames"));
   resumed_.bodyCsv = in.bytes("output/bodyCsv");
   restarted_ = true;
+  pressureFieldStep_ = ~std::size_t(0);  // computed again from the restored state when read
   log_(LogLevel::Info, "restarted from " + path + " at t = " + std::to_string(double(time_)) + " s, step " + std::to_string(stats_.steps));
 }
 

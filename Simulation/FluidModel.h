@@ -16,7 +16,7 @@ class FluidModel {
         velocities(fields_.add<Vector3r>("velocity", FieldSorted | FieldExported, Vector3r::Zero())),
         accelerations(fields_.add<Vector3r>("acceleration", FieldSorted, Vector3r::Zero())),
         densities(fields_.add<Real>("density", FieldSorted | FieldExported, density0)),
-        pressures(fields_.add<Real>("pressure", FieldSorted | FieldExported, Real(0))),
+        pressures(fields_.add<Real>("solverPressure", FieldSorted | FieldExported, Real(0))),
         masses(fields_.add<Real>("mass", FieldSorted, Real(0))),
         ids(fields_.add<Index>("id", FieldSorted | FieldExported, Index(0))) {}
   FluidModel(const FluidModel&) = delete;
@@ -39,7 +39,10 @@ class FluidModel {
   std::vector<Vector3r>& velocities;     // v_i (m/s)
   std::vector<Vector3r>& accelerations;  // non-pressure acceleration a_i^np (m/s^2)
   std::vector<Real>& densities;          // rho_i (kg/m^3), Eq. (14)
-  std::vector<Real>& pressures;          // p_i (Pa)
+  // p_i (Pa) as the pressure solver found it: the multiplier that keeps particle i at rho0
+  // (field "solverPressure"). The pressure field to read is the kernel average of it,
+  // Simulation::updatePressureField (field "pressure").
+  std::vector<Real>& pressures;
   std::vector<Real>& masses;             // m_i (kg)
   std::vector<Index>& ids;               // stable particle id across re-sorting
 };

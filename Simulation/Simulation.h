@@ -108,9 +108,10 @@ class Simulation {
   void restoreCheckpoint(const std::string& path);
   // The checkpoints written so far at output.checkpointInterval (OUTPUT/checkpoint_NNNNN.state).
   std::size_t checkpointsWritten() const { return checkpointsWritten_; }
-  // Fills the particle field "pressureAverage", the kernel average of the pressure over each
-  // particle's neighbourhood (what to read as the pressure field); every frame does it itself.
-  void computeAveragedPressure();
+  // Fills the particle field "pressure" (the pressure field to read: frames, Python, the
+  // tests) from the solver's pressures, unless it is up to date with the current step;
+  // every frame does it itself.
+  void updatePressureField();
 
   // The summary figures (the CLI prints them; --summary-json writes them).
   json summary() const;
@@ -168,7 +169,8 @@ class Simulation {
   std::unique_ptr<RigidBodyGuard> bodyGuard_;  // null without dynamic bodies
   SpeedScale speedScale_;                      // the scene's largest speed, from its start state
   std::vector<Vector3r> pairImpulses_;  // per fluid-boundary pair, this step (two-way coupling, probes)
-  std::vector<Real>* averagedPressure_ = nullptr;  // the exported field "pressureAverage"
+  std::vector<Real>* pressureField_ = nullptr;  // the exported field "pressure" (updatePressureField)
+  std::size_t pressureFieldStep_ = ~std::size_t(0);  // the step it was computed after (~0: never)
   std::unique_ptr<Probes> probes_;
   std::unique_ptr<LineFile> probeFile_;  // OUTPUT/probes.csv
   std::size_t nextProbeRow_ = 0;

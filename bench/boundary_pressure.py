@@ -91,7 +91,7 @@ def column(binary, solver, treatment, args, work):
     first = int(round((COLUMN_STOP - 1) * COLUMN_FPS))
     for i in range(first, int(round(COLUMN_STOP * COLUMN_FPS)) + 1):
         f = read_vtu(os.path.join(out, f"water_{i:05d}.vtu"))
-        x, v, p = f["position"], f["velocity"], f["pressure"]
+        x, v, p = f["position"], f["velocity"], f["solverPressure"]
         side = np.minimum.reduce([x[:, 0], width - x[:, 0], x[:, 2], width - x[:, 2]])
         top = np.percentile(x[:, 1], 99.5)
         mid = (x[:, 1] > 4 * r) & (x[:, 1] < top - 4 * r)
@@ -114,7 +114,7 @@ def nearest_distance(x, b):
 
 
 def noise(frame, boundary, r, rho0, g):
-    x, p = frame["position"], frame["pressure"]
+    x, p = frame["position"], frame["solverPressure"]
     wall = nearest_distance(x, boundary)
     top = np.percentile(x[:, 1], 99.5)
     deep = x[:, 1] < top - 4 * r
@@ -144,7 +144,7 @@ def figure(results, r, path_of, vmax):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     for treatment, (frame, boundary) in results.items():
-        x, p = frame["position"], frame["pressure"]
+        x, p = frame["position"], frame["solverPressure"]
         fig, (a0, a1) = plt.subplots(1, 2, figsize=(11, 4.6), gridspec_kw={"width_ratios": [1, 1.3]})
         wall = nearest_distance(x, boundary)
         low = (wall < 3 * r) & (x[:, 1] < x[:, 1].min() + 0.12)
@@ -248,7 +248,7 @@ def main():
     print("\n" + text)
     with open(os.path.join(args.results, f"issue3{suffix}_table.md"), "w") as fh:
         fh.write(text)
-    vmax = max(float(np.percentile(f["pressure"], 99.5)) for f, _ in figs.values())
+    vmax = max(float(np.percentile(f["solverPressure"], 99.5)) for f, _ in figs.values())
     figure(figs, r, lambda t: os.path.join(args.results, f"issue3{suffix}_figure2_{t}.png"), vmax)
     print("wrote", os.path.join(args.results, f"issue3{suffix}_table.md"), f"and issue3{suffix}_figure2_{{" + ",".join(TREATMENTS) + "}.png")
 

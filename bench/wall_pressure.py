@@ -7,11 +7,12 @@ combination:
            default), rests for 3 s; means over the last 0.5 s of
              particle RMS  of p - rho0 g d over every particle deeper than 3r (wall layers
                            included), d below the level gauge's surface, in % of rho0 g H; "raw" is
-                           the solver's pressure, "shepard" its kernel average over each particle's
-                           neighbourhood (sum_j V_j p_j W_ij / sum_j V_j W_ij), one frame (t = 3 s);
-             slope         of p against d over the same particles, in rho0 g (raw);
+                           the solver's pressure (fluid.solver_pressures), "shepard" the exported
+                           pressure field (fluid.pressures), its kernel average over each
+                           particle's neighbourhood (sum_j V_j p_j W_ij / sum_j V_j W_ij), one frame (t = 3 s);
+             slope         of p against d over the same particles, in rho0 g (raw, and of the field);
              wall layers   mean p / rho0 g d of the particles within one spacing of the floor and of
-                           a side wall (raw);
+                           a side wall (raw, and of the exported field);
              floor probe   pressure probe at the floor's centre / (weight / area);
              side probe    pressure probe on a side wall at mid-depth / rho0 g (H - y);
              floor force   force probe on the tank (vertical) / weight;
@@ -132,12 +133,9 @@ def measure(case, solver, model, treatment, n, threads):
         wall = time.time() - t0
         avg = {k: float(np.mean([r[k] for r in rows])) for k in rows[0]}
         H = avg["level"]
-        x, p, rho, m = f.positions.copy(), f.pressures.copy(), f.densities.copy(), f.masses.copy()
-        h = 4 * R
-        dist = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2) / h
-        kern = np.where(dist <= 0.5, 6 * (dist ** 3 - dist ** 2) + 1, np.where(dist <= 1, 2 * (1 - dist) ** 3, 0.0))
-        kern *= (m / rho)[None, :]
-        shepard = kern @ p / kern.sum(1)
+        # raw: the solver's per-particle pressure; shepard: the exported pressure field (its kernel
+        # average, Simulation::updatePressureField), what a frame and fluid.pressures hold.
+        x, p, shepard = f.positions.copy(), f.solver_pressures.copy(), f.pressures.copy()
         depth = H - x[:, 1]
         deep = depth > 3 * R
         ref = RHO0 * G * depth[deep]
@@ -149,6 +147,9 @@ def measure(case, solver, model, treatment, n, threads):
         side = deep & (x[:, 1] > SPACING) & (np.minimum(np.minimum(x[:, 0], w - x[:, 0]), np.minimum(x[:, 2], w - x[:, 2])) < SPACING)
         out["floor_layer"] = float(np.mean(p[floor]) / np.mean(RHO0 * G * depth[floor]))
         out["side_layer"] = float(np.mean(p[side]) / np.mean(RHO0 * G * depth[side]))
+        out["slope_field"] = float(np.polyfit(depth[deep], shepard[deep], 1)[0] / (RHO0 * G))
+        out["floor_layer_field"] = float(np.mean(shepard[floor]) / np.mean(RHO0 * G * depth[floor]))
+        out["side_layer_field"] = float(np.mean(shepard[side]) / np.mean(RHO0 * G * depth[side]))
         out["floor_probe"] = avg["floor"] / (weight / (w * w))
         out["side_probe"] = avg["side"] / (RHO0 * G * (H - n * SPACING))
         out["floor_force"] = -avg["tank.fy"] / weight
@@ -194,7 +195,7 @@ def plot(results, path_prefix):
             continue
         fig, ax = plt.subplots(figsize=(4, 4))
         ax.plot(prof["raw"], prof["depth"], ".", ms=2, label="particle p (raw)")
-        ax.plot(prof["shepard"], prof["depth"], ".", ms=2, label="Shepard average")
+        ax.plot(prof["shepard"], prof["depth"], ".", ms=2, label="pressure field (kernel average)")
         dmax = max(prof["depth"])
         ax.plot([0, RHO0 * G * dmax], [0, dmax], "k-", lw=1, label="rho0 g d")
         ax.invert_yaxis()
@@ -243,7 +244,7 @@ def main():
     precision = next((r["precision"] for r in results.values() if "precision" in r), "?")
     lines = [f"Machine: {machine_line()}; {args.threads} thread(s) per run, {args.jobs} runs at a time; {precision}; "
              f"tank {args.n} x {args.n} x {2 * args.n} at r = {R} m (3 s), held box r = 0.01 m (1.5 s), jet r = 0.005 m (0.6 s).", "",
-             "| solver | walls | treatment | particle RMS raw / Shepard, % rho0 g H | slope | floor layer | side layer | "
+             "| solver | walls | treatment | particle RMS raw / field, % rho0 g H | slope raw / field | floor layer raw / field | side layer raw / field | "
              "floor probe | side probe | floor force / weight | side force / hydrostatic | held box / rho0 V g | jet / mdot U | tank ms/step |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for key, r in results.items():
@@ -253,8 +254,10 @@ def main():
                          f"{r.get('buoyancy', float('nan')):.3f} | {r.get('jet', float('nan')):.3f} | |")
             continue
         name = t if t != "auto" else f"auto ({r['resolved_treatment']})"
-        lines.append(f"| {s} | {m} | {name} | {r['rms_raw']:.1f} / {r['rms_shepard']:.1f} | {r['slope']:.3f} | "
-                     f"{r['floor_layer']:.2f} | {r['side_layer']:.2f} | {r['floor_probe']:.3f} | {r['side_probe']:.3f} | "
+        lines.append(f"| {s} | {m} | {name} | {r['rms_raw']:.1f} / {r['rms_shepard']:.1f} | "
+                     f"{r['slope']:.3f} / {r.get('slope_field', float('nan')):.3f} | "
+                     f"{r['floor_layer']:.2f} / {r.get('floor_layer_field', float('nan')):.2f} | "
+                     f"{r['side_layer']:.2f} / {r.get('side_layer_field', float('nan')):.2f} | {r['floor_probe']:.3f} | {r['side_probe']:.3f} | "
                      f"{r['floor_force']:.4f} | {r['side_force']:.3f} | {r.get('buoyancy', float('nan')):.3f} | {r.get('jet', float('nan')):.3f} | "
                      f"{r['ms_per_step']:.2f} |")
     table = "\n".join(lines) + "\n"

@@ -52,7 +52,17 @@ raises consph.StaleViewError: take fresh views after steps that may add particle
                              "(N, 3) non-pressure acceleration a_i^np, m/s^2 (gravity + forces; a Force adds to it)")
       .def_property_readonly("densities", [](const PyFluid& f) { return view(f, "density"); },
                              "(N,) rho_i, kg/m^3 (recomputed every step)")
-      .def_property_readonly("pressures", [](const PyFluid& f) { return view(f, "pressure"); }, "(N,) p_i, Pa")
+      .def_property_readonly(
+          "pressures",
+          [](const PyFluid& f) {
+            f.simulation->simulation().updatePressureField();
+            return view(f, "pressure");
+          },
+          "(N,) the pressure field at each particle, Pa: the kernel average of the solver's pressures over its "
+          "neighbourhood (Simulation::updatePressureField), computed when read after a step")
+      .def_property_readonly("solver_pressures", [](const PyFluid& f) { return view(f, "solverPressure"); },
+                             "(N,) p_i as the pressure solver found it (field solverPressure), Pa: the per-particle "
+                             "multiplier, which scatters by about rho0 g times one spacing around the field")
       .def_property_readonly("masses", [](const PyFluid& f) { return view(f, "mass"); }, "(N,) m_i, kg")
       .def_property_readonly("ids", [](const PyFluid& f) { return view(f, "id"); },
                              "(N,) stable particle ids (read-only): rows are re-sorted, ids are not")

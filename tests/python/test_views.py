@@ -85,3 +85,22 @@ def test_views_made_for_another_particle_count_are_reported(tank):
         water._resize(100 * n)  # the storage moves: y would dangle
     assert not consph.is_current(y)
     assert len(water.velocities) == 100 * n and consph.is_current(water.velocities)
+
+
+def test_pressures_are_the_kernel_average_of_the_solver_pressures_after_every_step():
+    # fluid.pressures (the frames' "pressure") is sum_j V_j p_j W_ij / sum_j V_j W_ij of the
+    # solver's p_j (fluid.solver_pressures), j = i included, computed after the last step.
+    sim = consph.Simulation.from_dict(tank_scene())
+    water = sim.fluid()
+    h = 4 * 0.025
+    for steps in (5, 1):
+        sim.step(steps)
+        x, p, m, rho = water.positions, water.solver_pressures, water.masses, water.densities
+        q = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2) / h
+        w = np.where(q <= 0.5, 6 * (q ** 3 - q ** 2) + 1, np.where(q <= 1, 2 * (1 - q) ** 3, 0.0)) * (m / rho)[None, :]
+        expected = w @ p / w.sum(1)
+        assert np.max(np.abs(p)) > 0  # the block presses on its floor: not a vacuous comparison
+        np.testing.assert_allclose(water.pressures, expected, rtol=1e-9 if consph.precision == "double" else 1e-4,
+                                   atol=1e-9 * np.max(np.abs(p)))
+        assert not np.allclose(water.pressures, p)  # the field is not the per-particle values
+        assert "solverPressure" in water.fields() and "pressure" in water.fields()
