@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "Boundary/MassProperties.h"
 #include "Boundary/MeshSampling.h"
+#include "Utilities/MassProperties.h"
 
 namespace consph {
 

@@ -4,11 +4,11 @@
 #include <cstdio>
 #include <limits>
 
-#include "Boundary/MassProperties.h"
 #include "Boundary/MeshSampling.h"
 #include "Boundary/ObjectSampling.h"
 #include "Boundary/RestLayer.h"
 #include "Simulation/PluginRegistry.h"
+#include "Utilities/MassProperties.h"
 #include "Utilities/ParallelFor.h"
 
 namespace consph {

@@ -30,8 +30,7 @@ struct RigidBody {
   // Average fluid force and torque (about x) over the last step, N and N m (output).
   Vector3r fluidForce = Vector3r::Zero(), fluidTorque = Vector3r::Zero();
 
-  std::vector<Index> samples;          // its boundary samples k
-  std::vector<Vector3r> localSamples;  // their positions in the body frame, relative to x
+  std::vector<Index> samples;          // its boundary samples k (the model moves them: BoundaryModel::follow)
   // Its points in the contact surface (RigidBodySystem::contactSurface): its boundary samples
   // where the model has a sample layer, else points on its mesh (volume maps), with their
   // positions in the body frame relative to x (only for the latter).

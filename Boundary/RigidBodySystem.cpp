@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include "Boundary/AddedMass.h"
-#include "Boundary/MassProperties.h"
 #include "Boundary/ObjectSampling.h"
 #include "Utilities/Error.h"
+#include "Utilities/MassProperties.h"
 #include "Utilities/ParallelFor.h"
 #include "Utilities/VtkWriter.h"
 
@@ -73,7 +73,6 @@ RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, con
     const Index b = bodyOfObject_[samples.bodies[k]];
     if (b == kNone) continue;
     bodies_[b].samples.push_back(Index(k));
-    bodies_[b].localSamples.push_back(samples.positions[k] - bodies_[b].x);
   }
   // Rigid contact only moves free dynamic bodies: without one, no contact surface is needed.
   if (contactSpacing > 0 && dynamicCount_ > 0) sampleContactSurface(objects, contactSpacing, log);
@@ -96,7 +95,7 @@ RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, con
   for (std::size_t i = 0; i < bodies_.size(); ++i) free_[i] = bodies_[i].motion == BodyMotion::Dynamic && hingeOfBody_[i] == kNone;
 }
 
-void RigidBodySystem::gatherFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
+void RigidBodySystem::takeFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
                                           const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses) {
   const std::size_t nb = bodies_.size(), n = lists.queryCount();
   const int threads = omp_get_max_threads();
@@ -178,7 +177,7 @@ void RigidBodySystem::respond(const std::vector<Vector3r>& fluidPositions, const
                               const Vector3r& gravity, Real dt, BoundarySamples& samples) {
   trialImpulse_.assign(bodies_.size(), Vector3r::Zero());
   trialAngularImpulse_.assign(bodies_.size(), Vector3r::Zero());
-  // As gatherFluidImpulses: the torque taken at the fluid particle.
+  // As takeFluidImpulses: the torque taken at the fluid particle.
   for (std::size_t p = 0; p < movingPairs_.size(); ++p) {
     const Index b = movingPairBody_[p];
     trialImpulse_[b] += impulses[p];
@@ -236,7 +235,7 @@ void RigidBodySystem::advance(Real dt, const Vector3r& gravity, const BoundarySa
       const Vector3r J = impulse_[i] + dt * b.mass * gravity;
       if (hingeOfBody_[i] != kNone) advanceHinged(b, hinges_[hingeOfBody_[i]].description, J, angularImpulse_[i], dt);
       else {
-        // touching_ is sized by gatherFluidImpulses; without it no fluid is known to touch.
+        // touching_ is sized by takeFluidImpulses; without it no fluid is known to touch.
         if (i < addedMass_.size() && addedMass_[i] > 0 && i < touching_.size()) {
           const BodyIncrement inc = shareWithTouchingFluid(b, J, angularImpulse_[i], dt, addedMass_[i], touching_[i], fluidPositions,
                                                            fluidMasses, fluidVelocities);
@@ -293,8 +292,11 @@ void RigidBodySystem::moveContactPoints() {
 }
 
 
-std::vector<RigidContact::Overlap> RigidBodySystem::overlaps(const BoundarySamples& samples, Real tolerance) {
-  return contact_.overlaps(bodies_, free_, bodyOfObject_, contactSurface(samples), tolerance);
+std::vector<BodyOverlap> RigidBodySystem::overlaps(const BoundarySamples& samples, Real tolerance) {
+  std::vector<BodyOverlap> out;
+  for (const RigidContact::Overlap& o : contact_.overlaps(bodies_, free_, bodyOfObject_, contactSurface(samples), tolerance))
+    out.push_back({o.objectA, o.objectB, o.depth});
+  return out;
 }
 
 void RigidBodySystem::advanceHinged(RigidBody& b, const HingeDescription& h, const Vector3r& J, const Vector3r& L,
@@ -318,27 +320,47 @@ void RigidBodySystem::advanceHinged(RigidBody& b, const HingeDescription& h, con
   b.v = b.w.cross(b.x - h.point);
 }
 
-bool RigidBodySystem::updateBoundary(BoundaryModel& model, bool onlyChanged) {
-  BoundarySamples& samples = model.samples();
+const std::vector<PoseUpdate>& RigidBodySystem::poses(bool onlyChanged) {
   written_.resize(bodies_.size());
-  bool moved = false;
+  poses_.clear();
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const RigidBody& b = bodies_[i];
     const WrittenState now{b.x, b.v, b.w, b.q};
-    // Exact comparison: any change at all is written (a body at rest repeats its state bit for bit).
+    // Exact comparison: any change at all is given (a body at rest repeats its state bit for bit).
     const bool samePose = onlyChanged && written_[i].x == now.x && written_[i].q.coeffs() == now.q.coeffs();
     if (samePose && written_[i].v == now.v && written_[i].w == now.w) continue;
     written_[i] = now;
-    moved = moved || !samePose;
-    model.setPose(b.object, b.pose());
-    const Matrix3r R = b.rotation();
-    parallelFor(b.samples.size(), [&](std::size_t s) {
-      const Index k = b.samples[s];
-      samples.positions[k] = b.x + R * b.localSamples[s];
-      samples.velocities[k] = b.velocityAt(samples.positions[k]);
-    });
+    poses_.push_back({b.object, b.pose(), !samePose});
   }
-  return moved;
+  return poses_;
+}
+
+MovingBodyState RigidBodySystem::state(std::size_t body) const {
+  const RigidBody& b = bodies_[body];
+  MovingBodyState s;
+  s.name = b.name;
+  s.motion = b.motion;
+  s.object = b.object;
+  s.mass = b.mass;
+  for (const Vector3r& v : b.localMesh.vertices) s.reach = std::max(s.reach, v.norm());
+  s.x = b.x;
+  s.x0 = b.x0;
+  s.q = b.q;
+  s.v = b.v;
+  s.w = b.w;
+  s.fluidForce = b.fluidForce;
+  s.fluidTorque = b.fluidTorque;
+  return s;
+}
+
+void RigidBodySystem::restoreState(std::size_t body, const MovingBodyState& s) {
+  RigidBody& b = bodies_[body];
+  b.x = s.x;
+  b.q = s.q;
+  b.v = s.v;
+  b.w = s.w;
+  b.fluidForce = s.fluidForce;
+  b.fluidTorque = s.fluidTorque;
 }
 
 Vector3r RigidBodySystem::momentum() const {
@@ -348,7 +370,7 @@ Vector3r RigidBodySystem::momentum() const {
   return p;
 }
 
-std::string RigidBodySystem::csvHeader() {
+std::string RigidBodySystem::csvHeader() const {
   return "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,fx,fy,fz,tx,ty,tz\n";
 }
 
@@ -392,6 +414,20 @@ std::string RigidBodySystem::meshesToVtu() const {
   cloud.add("body", body.data());
   cloud.add("velocity", reinterpret_cast<const Real*>(velocity.data()), 3);
   return cloud.serialize();
+}
+
+std::unique_ptr<MovingBodies> makeMovingBodies(const std::vector<BoundaryObject>& objects, const BoundaryModel& model,
+                                               Real particleRadius, Real fluidDensity, const LogSink& log) {
+  if (std::all_of(objects.begin(), objects.end(), [](const BoundaryObject& o) { return o.motion == BodyMotion::Static; }))
+    return nullptr;
+  std::vector<Real> layerDepth(objects.size());
+  for (std::size_t b = 0; b < layerDepth.size(); ++b) layerDepth[b] = model.layerDepth(b);
+  // Volume maps have no sample layer to touch with: rigid contact samples the surfaces itself,
+  // r apart (the particle walls' default sampling distance).
+  const Real contactSpacing = model.implicit() ? particleRadius : Real(0);
+  auto bodies = std::make_unique<RigidBodySystem>(objects, model.samples(), std::move(layerDepth), particleRadius, log, contactSpacing);
+  bodies->setFluidDensity(fluidDensity);
+  return bodies;
 }
 
 }  // namespace consph

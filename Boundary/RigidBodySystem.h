@@ -1,8 +1,9 @@
-// The scene's moving boundary objects: dynamic rigid bodies (two-way coupled with the fluid,
-// paper Section 3.5, Eq. (35)), animated (kinematic) bodies and hinges. It gathers the pressure
-// impulses the solver reports per fluid-boundary pair into force and torque per body (per-thread
-// accumulators, no atomics), integrates the bodies and moves their boundary samples, which carry
-// the body's velocity into the next pressure solve.
+// The scene's moving boundary objects (Simulation/MovingBodies.h): dynamic rigid bodies (two-way
+// coupled with the fluid, paper Section 3.5, Eq. (35)), animated (kinematic) bodies and hinges.
+// It gathers the pressure impulses the solver reports per fluid-boundary pair into force and
+// torque per body (per-thread accumulators, no atomics), integrates the bodies and gives their
+// poses to the boundary model, which moves the samples; those carry the body's velocity into the
+// next pressure solve.
 #pragma once
 #include <limits>
 #include <string>
@@ -10,8 +11,8 @@
 
 #include "Boundary/RigidBody.h"
 #include "Boundary/RigidContact.h"
-#include "Simulation/BodyResponse.h"
 #include "Simulation/BoundarySamples.h"
+#include "Simulation/MovingBodies.h"
 #include "Simulation/NeighborSearch.h"
 #include "Utilities/Log.h"
 
@@ -24,7 +25,7 @@ struct Hinge {
   HingeDescription description;
 };
 
-class RigidBodySystem : public BodyResponse {
+class RigidBodySystem final : public MovingBodies {
  public:
   // Builds a body for every non-static object; `samples` are the boundary model's samples of
   // all objects (sample k belongs to object samples.bodies[k]).
@@ -38,7 +39,10 @@ class RigidBodySystem : public BodyResponse {
                   Real minContactDistance, const LogSink& log, Real contactSpacing = 0);
 
   bool empty() const { return bodies_.empty(); }
-  bool hasDynamic() const { return dynamicCount_ > 0; }
+  std::size_t dynamicCount() const override { return dynamicCount_; }
+  std::size_t count() const override { return bodies_.size(); }
+  MovingBodyState state(std::size_t body) const override;
+  void restoreState(std::size_t body, const MovingBodyState& state) override;
   const std::vector<RigidBody>& bodies() const { return bodies_; }
   std::vector<RigidBody>& bodies() { return bodies_; }
 
@@ -46,21 +50,22 @@ class RigidBodySystem : public BodyResponse {
   // e = (i, k) of `lists`) into impulse and angular impulse per body, the torque taken at the
   // fluid particle x_i (fluid plus bodies then conserve angular momentum whatever the pair
   // force's direction).
-  void gatherFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
-                           const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses);
+  void takeFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
+                         const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses) override;
   // One step: dynamic bodies take the gathered impulses and gravity (hinged ones about their
   // axle, with the motor), free ones then rigid contact (RigidContact, on the current
   // `samples`), animated ones follow their prescribed velocity. Clears the impulses.
   // A light free body (Boundary/AddedMass.h) shares its impulses with the fluid touching it
-  // (found by gatherFluidImpulses): their velocities change too.
+  // (found by takeFluidImpulses): their velocities change too.
   void advance(Real dt, const Vector3r& gravity, const BoundarySamples& samples, const std::vector<Vector3r>& fluidPositions,
-               const std::vector<Real>& fluidMasses, std::vector<Vector3r>& fluidVelocities);
+               const std::vector<Real>& fluidMasses, std::vector<Vector3r>& fluidVelocities) override;
   // The fluid's rest density: from it each free body's added mass (AddedMass.h; 0 for a body
   // at least kAddedMassCoefficient times as dense as the fluid).
   void setFluidDensity(Real rho0);
   // Object pairs whose sample layers overlap by more than `tolerance` m now, one of them a free
   // dynamic body (a start-up check: bodies drawn into each other or into a wall).
-  std::vector<RigidContact::Overlap> overlaps(const BoundarySamples& samples, Real tolerance);
+  std::vector<BodyOverlap> overlaps(const BoundarySamples& samples, Real tolerance) override;
+  Real maxPushOutSpeed() const override { return RigidContact::kMaxPushOutSpeed; }
   // Contacts found in the last advance().
   std::size_t contactCount() const { return contactCount_; }
   // The points rigid contact works on: the model's `samples`, or this system's own surface
@@ -68,12 +73,10 @@ class RigidBodySystem : public BodyResponse {
   const BoundarySamples& contactSurface(const BoundarySamples& samples) const {
     return ownContactSurface_ ? contactPoints_ : samples;
   }
-  // Positions and velocities of the moving bodies' samples from the bodies' state, and each
-  // moving object's pose for the boundary model (an implicit one moves its maps with it).
-  // `onlyChanged`: skip the bodies whose state is the one written last time (an animated body at
-  // rest costs nothing per step). Returns whether a sample moved, i.e. whether the boundary
-  // model's neighbour structure must be rebuilt (BoundaryModel::markMoved).
-  bool updateBoundary(BoundaryModel& model, bool onlyChanged = false);
+  // Each moving object's pose for the boundary model (BoundaryModel::follow moves the samples,
+  // an implicit model its maps). `onlyChanged`: skip the bodies whose state is the one given last
+  // time (an animated body at rest costs nothing per step).
+  const std::vector<PoseUpdate>& poses(bool onlyChanged) override;
 
   // BodyResponse: the free dynamic bodies' samples move as if the bodies took the impulses so far.
   const std::vector<MovingPair>& movingPairs(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
@@ -81,17 +84,17 @@ class RigidBodySystem : public BodyResponse {
   void respond(const std::vector<Vector3r>& fluidPositions, const std::vector<Vector3r>& impulses, const Vector3r& gravity, Real dt,
                BoundarySamples& samples) override;
   void restore(BoundarySamples& samples) override;
-  bool hasFreeDynamic() const;
+  bool hasFreeDynamic() const override;
 
   // Linear momentum of the dynamic bodies, kg m/s.
   Vector3r momentum() const;
 
   // Output: one CSV row per body (header first), and the bodies' surfaces as one .vtu.
-  static std::string csvHeader();
-  std::string csvRows(Real time) const;
+  std::string csvHeader() const override;
+  std::string csvRows(Real time) const override;
   std::string meshesToVtu() const;
   // Every body's surface where it is now: one mesh, each vertex's body (object index) and velocity.
-  void worldMeshes(TriangleMesh& mesh, std::vector<Index>& body, std::vector<Vector3r>& velocity) const;
+  void worldMeshes(TriangleMesh& mesh, std::vector<Index>& body, std::vector<Vector3r>& velocity) const override;
 
  private:
   // Free dynamic bodies: not hinged (rigid contact moves these only); fixed at construction.
@@ -128,12 +131,13 @@ class RigidBodySystem : public BodyResponse {
   std::vector<std::vector<Index>> touching_;   // this step's fluid touching each light body
   std::vector<Matrix3r> touchingInertia_;
   std::size_t movingPairsStep_ = ~std::size_t(0), stepsAdvanced_ = 0;
-  // Each body's state as updateBoundary last wrote it to the samples.
+  // Each body's state as poses() last gave it, and the poses of that call.
   struct WrittenState {  // NaN until written: unequal to any state
     Vector3r x = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()), v = x, w = x;
     Quaternionr q = Quaternionr(x[0], x[0], x[0], x[0]);
   };
   std::vector<WrittenState> written_;
+  std::vector<PoseUpdate> poses_;
   // Calls f(k, body) for every sample k of a free dynamic body.
   template <class F>
   void forEachFreeSample(const BoundarySamples& samples, F&& f) const;

@@ -7,10 +7,10 @@
 #include <limits>
 #include <numbers>
 
-#include "Boundary/MassProperties.h"
 #include "Boundary/MeshSampling.h"
 #include "Boundary/RestLayer.h"
 #include "Simulation/ResourceEstimate.h"
+#include "Utilities/MassProperties.h"
 #include "Utilities/ParallelFor.h"
 #include "Utilities/TriangleBvh.h"
 

@@ -42,7 +42,6 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   BoundaryEstimate estimate(const std::vector<BoundaryObject>& objects, const CubicSplineKernel& kernel) const override;
   void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
   bool implicit() const override { return true; }
-  void setPose(std::size_t object, const ObjectPose& pose) override { poses_[object] = pose; }
   // A virtual particle stands for the surface within h of its fluid particle: its load J is
   // taken apart along the normals of that surface, weighted as they make up grad V
   // (VolumeMap::normalMoments), and each part goes where its surface is; J's component across
@@ -56,6 +55,10 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   const VolumeMap& map(std::size_t object) const { return *maps_[object]; }
   // Maps loaded from / built for the cache in the last initialize() (VolumeMapCache).
   const VolumeMapCache& cache() const { return cache_; }
+
+ protected:
+  // A moving object's map moves with it: its virtual particles are looked up in the map's frame.
+  void onPose(std::size_t object, const ObjectPose& pose) override { poses_[object] = pose; }
 
  private:
   // The virtual particle of object o for a fluid particle at x (position, mass and the pair's

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "Simulation/BoundarySamples.h"
 #include "Simulation/FluidModel.h"
 #include "Simulation/NeighborSearch.h"
@@ -66,6 +68,14 @@ struct ObjectPose {
   Vector3r velocityAt(const Vector3r& x) const { return velocity + angularVelocity.cross(x - centre); }
 };
 
+// A moving object's pose for the boundary model (MovingBodies::poses); `moved`: its position or
+// orientation changed (false: only its velocities), so the model's neighbour structure is stale.
+struct PoseUpdate {
+  std::size_t object = 0;
+  ObjectPose pose;
+  bool moved = true;
+};
+
 class BoundaryModel {
  public:
   virtual ~BoundaryModel() = default;
@@ -82,9 +92,12 @@ class BoundaryModel {
   virtual bool implicit() const { return false; }
   // How far object o's samples lie inside its solid (0: on its surface); rigid contact uses it.
   virtual Real layerDepth(std::size_t object) const { return 0; }
-  // A moving object's pose after the bodies moved (every step, and once at start-up). Sampled
-  // models ignore it: the rigid-body system moves their samples itself.
-  virtual void setPose(std::size_t object, const ObjectPose& pose) {}
+  // The moving objects' poses after the bodies moved (every step, and once at start-up): the
+  // model is the only writer of its samples' positions. A sampled object's samples go to the
+  // pose applied to where they were when it was first given one (t = 0), with the pose's
+  // velocity there; an implicit model moves what it keeps per object (onPose). Marks the model
+  // moved when an object's position or orientation changed.
+  void follow(const std::vector<PoseUpdate>& poses);
   // The part of the impulse J that fluid particle x gave sample k which acts on the part of k's
   // object inside the box [lo, hi] (a force probe's region). Sampled models: all of it where
   // the sample lies in the box, none elsewhere. Volume maps split a virtual particle's load
@@ -98,8 +111,19 @@ class BoundaryModel {
   const BoundarySamples& samples() const { return samples_; }
 
  protected:
+  // An object's new pose, for what a model keeps per object besides its samples (volume maps).
+  virtual void onPose(std::size_t object, const ObjectPose& pose) {}
   BoundarySamples samples_;
   bool moved_ = true;
+
+ private:
+  // Per object given a pose: its samples and their positions at t = 0 (kept on first follow()).
+  struct ObjectSamples {
+    std::vector<Index> samples;
+    std::vector<Vector3r> initialPositions;
+  };
+  std::vector<ObjectSamples> objectSamples_;
+  std::vector<char> objectKnown_;
 };
 
 }  // namespace consph

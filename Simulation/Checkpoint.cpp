@@ -56,7 +56,7 @@ std::vector<std::pair<double, std::string>> framesFromText(const std::string& te
 struct BodyState {
   Real values[19];
 };
-BodyState stateOf(const RigidBody& b) {
+BodyState stateOf(const MovingBodyState& b) {
   BodyState s;
   Real* p = s.values;
   for (const Vector3r* v : {&b.x, &b.v, &b.w, &b.fluidForce, &b.fluidTorque})
@@ -64,7 +64,7 @@ BodyState stateOf(const RigidBody& b) {
   for (Real c : {b.q.w(), b.q.x(), b.q.y(), b.q.z()}) *p++ = c;
   return s;
 }
-void setState(RigidBody& b, const BodyState& s) {
+void setState(MovingBodyState& b, const BodyState& s) {
   const Real* p = s.values;
   for (Vector3r* v : {&b.x, &b.v, &b.w, &b.fluidForce, &b.fluidTorque})
     for (int k = 0; k < 3; ++k) (*v)[k] = *p++;
@@ -103,7 +103,7 @@ void Simulation::saveCheckpoint(const std::string& path) const {
   out.putString("fields", names);
   std::vector<BodyState> bodies;
   if (bodies_)
-    for (const RigidBody& b : bodies_->bodies()) bodies.push_back(stateOf(b));
+    for (std::size_t i = 0; i < bodies_->count(); ++i) bodies.push_back(stateOf(bodies_->state(i)));
   out.putVector("bodies", bodies);
   std::vector<Emitter::State> emitters;
   for (const Emitter& e : emitters_) emitters.push_back(e.state());
@@ -146,11 +146,15 @@ void Simulation::restoreCheckpoint(const std::string& path) {
   }
 
   const auto bodies = in.getVector<BodyState>("bodies");
-  if (bodies.size() != (bodies_ ? bodies_->bodies().size() : 0)) refuse("its moving bodies differ from the scene's");
-  for (std::size_t i = 0; i < bodies.size(); ++i) setState(bodies_->bodies()[i], bodies[i]);
+  if (bodies.size() != (bodies_ ? bodies_->count() : 0)) refuse("its moving bodies differ from the scene's");
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    MovingBodyState b = bodies_->state(i);
+    setState(b, bodies[i]);
+    bodies_->restoreState(i, b);
+  }
   if (bodies_) {
     // The boundary follows the bodies, as after any step.
-    bodies_->updateBoundary(*boundaryModel_);
+    boundaryModel_->follow(bodies_->poses(false));
     boundaryModel_->markMoved();
   }
   const auto emitters = in.getVector<Emitter::State>("emitters");

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "Boundary/RigidBodySystem.h"
+#include "Simulation/MovingBodies.h"
 #include "Utilities/BgeoWriter.h"
 #include "Utilities/Error.h"
 #include "Utilities/Gzip.h"
@@ -71,8 +71,7 @@ PointTable particleTable(ParticleFields& fields, std::size_t n, const std::vecto
   return table;
 }
 
-BodyFrame::BodyFrame(const RigidBodySystem& system, BodyFrames kind, FrameFormat format) {
-  const std::vector<RigidBody>& bodies = system.bodies();
+BodyFrame::BodyFrame(const MovingBodies& system, BodyFrames kind, FrameFormat format) {
   if (kind == BodyFrames::Meshes) {
     system.worldMeshes(mesh_, body_, velocity_);
     table_.positions = mesh_.vertices.data();
@@ -83,7 +82,8 @@ BodyFrame::BodyFrame(const RigidBodySystem& system, BodyFrames kind, FrameFormat
     table_.addReal(exportedName("velocity", format), reinterpret_cast<const Real*>(velocity_.data()), 3);
     return;
   }
-  for (const RigidBody& b : bodies) {
+  for (std::size_t i = 0; i < system.count(); ++i) {
+    const MovingBodyState b = system.state(i);
     points_.push_back(b.x);
     pivot_.push_back(b.x0);
     velocity_.push_back(b.v);

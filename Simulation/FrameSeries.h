@@ -15,7 +15,7 @@
 namespace consph {
 
 class VtkSeries;
-class RigidBodySystem;
+class MovingBodies;
 
 // The bytes of one frame file: VTU, BGEO (gzip-compressed when `compressed`; always float32,
 // the format has no double) or PLY.
@@ -36,7 +36,7 @@ class BodyFrame {
   // quaternion body -> world, x y z w as Houdini orders it), "pivot" (the centre at t = 0, so
   // that a vertex p of the scene's mesh is at P + orient (p - pivot)), "velocity" ("v" in BGEO),
   // "angularVelocity" ("w") and "body".
-  BodyFrame(const RigidBodySystem& bodies, BodyFrames kind, FrameFormat format);
+  BodyFrame(const MovingBodies& bodies, BodyFrames kind, FrameFormat format);
   const PointTable& table() const { return table_; }
 
  private:

@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "Boundary/MassProperties.h"
 #include "Utilities/Error.h"
+#include "Utilities/MassProperties.h"
 #include "Utilities/ParallelFor.h"
 
 namespace consph {

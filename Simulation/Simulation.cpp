@@ -9,12 +9,12 @@
 
 #include "Simulation/FrameSeries.h"
 #include "Simulation/LeakedParticles.h"
+#include "Simulation/RigidBodyGuard.h"
 #include "Simulation/SceneFile.h"
 #include "Utilities/AxisAlignedBox.h"
 #include "Utilities/LineFile.h"
 #include "Utilities/OutputFolder.h"
 #include "Utilities/ParallelFor.h"
-#include "Boundary/RigidBodyGuard.h"
 #include "Utilities/Timer.h"
 #include "Utilities/TriangleBvh.h"
 #include "Utilities/VtkWriter.h"
@@ -54,19 +54,8 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
                                 " walls is p_k = p_i for the one virtual particle per fluid particle: wall-layer pressures are "
                                 "far off hydrostatic and a tank filled to its walls blew up under IISPH and WCSPH "
                                 "(docs/boundary-pressure.md); \"consistent\" (the \"auto\" choice) is the treatment for them");
-  for (const BoundaryObject& o : scene_.boundaries)
-    if (o.motion != BodyMotion::Static) {
-      std::vector<Real> layerDepth(scene_.boundaries.size());
-      for (std::size_t b = 0; b < layerDepth.size(); ++b) layerDepth[b] = boundaryModel_->layerDepth(b);
-      // Volume maps have no sample layer to touch with: rigid contact samples the surfaces
-      // itself, r apart (the particle walls' default sampling distance).
-      const Real contactSpacing = boundaryModel_->implicit() ? scene_.particleRadius : Real(0);
-      bodies_ = std::make_unique<RigidBodySystem>(scene_.boundaries, boundaryModel_->samples(), std::move(layerDepth),
-                                                  scene_.particleRadius, log_, contactSpacing);
-      bodies_->setFluidDensity(fluid_->density0());
-      bodies_->updateBoundary(*boundaryModel_);  // the bodies' initial velocities
-      break;
-    }
+  bodies_ = makeMovingBodies(scene_.boundaries, *boundaryModel_, scene_.particleRadius, fluid_->density0(), log_);
+  if (bodies_) boundaryModel_->follow(bodies_->poses(false));  // the bodies' initial velocities
   pressureSolver_ = plugins_.pressureSolvers.create(scene_.pressureSolver["type"].get<std::string>(), scene_.pressureSolver,
                                                     "simulation.pressureSolver", context, log_);
   for (std::size_t i = 0; i < fd.forces.size(); ++i)
@@ -221,20 +210,20 @@ void Simulation::guardBodies() {
     hi += margin;
   }
   std::vector<std::string> labels;
-  for (const RigidBody& b : bodies_->bodies()) {
-    const BoundaryObject& o = scene_.boundaries[b.object];
+  for (std::size_t i = 0; i < bodies_->count(); ++i) {
+    const BoundaryObject& o = scene_.boundaries[bodies_->state(i).object];
     labels.push_back(o.name.empty() ? o.path : "'" + o.name + "' (" + o.path + ")");
   }
   const RigidBodyGuard::Limits limits = RigidBodyGuard::limitsFor(speedScale_.speed, has, lo, hi);
   // The guard would stop the first step on a body the scene's domain leaves out: an input error.
-  for (std::size_t i = 0; i < bodies_->bodies().size(); ++i) {
-    const RigidBody& b = bodies_->bodies()[i];
+  for (std::size_t i = 0; i < bodies_->count(); ++i) {
+    const MovingBodyState b = bodies_->state(i);
     if (b.motion == BodyMotion::Dynamic && has && !insideBox(b.x, lo, hi)) {
       throw InputError("simulation.domain: the dynamic body " + labels[i] + " starts outside it: its centre of mass is at " +
                        pointText(b.x) + ", the domain " + pointText(lo) + " - " + pointText(hi));
     }
   }
-  bodyGuard_ = std::make_unique<RigidBodyGuard>(bodies_->bodies(), labels, limits);
+  bodyGuard_ = std::make_unique<RigidBodyGuard>(labels, limits);
   {
     std::ostringstream s;
     s << "dynamic bodies stop the run beyond " << limits.maxSpeed << " m/s (" << RigidBodyGuard::kSpeedFactor
@@ -243,16 +232,16 @@ void Simulation::guardBodies() {
     log_(LogLevel::Info, s.str());
   }
   // Bodies drawn into each other or into a wall: rigid contact pushes them apart at a bounded
-  // speed (RigidContact::kMaxPushOutSpeed); say so, since the scene is probably not what was meant.
+  // speed (MovingBodies::maxPushOutSpeed); say so, since the scene is probably not what was meant.
   // Layers closer than half a particle radius count as touching (sample grids do not line up).
-  for (const RigidContact::Overlap& o : bodies_->overlaps(boundaryModel_->samples(), Real(0.5) * scene_.particleRadius)) {
+  for (const BodyOverlap& o : bodies_->overlaps(boundaryModel_->samples(), Real(0.5) * scene_.particleRadius)) {
     auto name = [&](Index object) {
       const BoundaryObject& b = scene_.boundaries[object];
       return b.name.empty() ? b.path : "'" + b.name + "' (" + b.path + ")";
     };
     std::ostringstream s;
     s << name(o.objectA) << " and " << name(o.objectB) << " overlap by " << o.depth
-      << " m at t = 0: rigid contact pushes them apart at most " << RigidContact::kMaxPushOutSpeed << " m/s";
+      << " m at t = 0: rigid contact pushes them apart at most " << bodies_->maxPushOutSpeed() << " m/s";
     log_(LogLevel::Warning, s.str());
   }
 }
@@ -328,11 +317,11 @@ void Simulation::emitParticles() {
 void Simulation::coupleRigidBodies(StepContext& ctx) {
   // Eq. (35): the reaction of the solver's boundary term on every sample of a moving body
   // (pairImpulses_, from measureWallLoads), summed into force and torque per body; then the
-  // bodies move and take their samples along. Animated bodies are not moved by it, but their
-  // fluid force is reported too.
-  bodies_->gatherFluidImpulses(boundaryNeighbors_, fluid_->positions, boundaryModel_->samples(), pairImpulses_);
+  // bodies move, and the boundary model moves its samples to their new poses. Animated bodies
+  // are not moved by the fluid, but their fluid force is reported too.
+  bodies_->takeFluidImpulses(boundaryNeighbors_, fluid_->positions, boundaryModel_->samples(), pairImpulses_);
   bodies_->advance(dt_, scene_.gravity, boundaryModel_->samples(), fluid_->positions, fluid_->masses, fluid_->velocities);
-  if (bodies_->updateBoundary(*boundaryModel_, true)) boundaryModel_->markMoved();
+  boundaryModel_->follow(bodies_->poses(true));
 }
 
 void Simulation::measureWallLoads(StepContext& ctx) {
@@ -340,7 +329,10 @@ void Simulation::measureWallLoads(StepContext& ctx) {
   if (!probes_ || !probes_->readsLoads()) return;
   // Torques about the moving bodies' centres of mass where they are during this step.
   if (bodies_)
-    for (const RigidBody& b : bodies_->bodies()) probes_->setObjectCentre(b.object, b.x);
+    for (std::size_t i = 0; i < bodies_->count(); ++i) {
+      const MovingBodyState b = bodies_->state(i);
+      probes_->setObjectCentre(b.object, b.x);
+    }
   probes_->measureLoads(boundaryNeighbors_, fluid_->positions, *boundaryModel_, pairImpulses_, dt_);
 }
 
@@ -559,7 +551,7 @@ void Simulation::integrate() {
 void Simulation::checkState() {
   // Bodies first: a body gone non-finite or runaway passes it on to the fluid within its step
   // (iterated coupling moves its samples during the solve), and the body is then the cause to name.
-  if (bodyGuard_) bodyGuard_->check(bodies_->bodies(), stats_.steps, time_);
+  if (bodyGuard_) bodyGuard_->check(*bodies_, stats_.steps, time_);
   FluidModel& f = *fluid_;
   const std::ptrdiff_t n = std::ptrdiff_t(f.size());
   // The first particle that is non-finite, and the first outside the domain (n: none).
@@ -613,7 +605,7 @@ void Simulation::setOutputDirectory(const std::string& dir) {
   writer_ = std::make_unique<FrameSeries>(dir, fluid_->name(), o.format, o.precision);
   if (bodies_) {
     bodyWriter_ = std::make_unique<FrameSeries>(dir, "bodies", o.format, o.precision);
-    if (bodyCsv_.empty()) bodyCsv_ = RigidBodySystem::csvHeader();
+    if (bodyCsv_.empty()) bodyCsv_ = bodies_->csvHeader();
   }
   // The boundary once, for context in ParaView.
   const BoundarySamples& b = boundaryModel_->samples();
@@ -795,7 +787,7 @@ json Simulation::summary() const {
       {"particlesEmitted", s.particlesEmitted},
       {"particlesRemoved", s.particlesRemoved},
       {"particlesDroppedInsideBodies", s.particlesDroppedInsideBodies},
-      {"movingBodies", bodies_ ? bodies_->bodies().size() : 0},
+      {"movingBodies", bodies_ ? bodies_->count() : 0},
       {"msPerStep", 1000.0 * s.wallSeconds / steps},
       {"usPerParticleStep", 1e6 * s.wallSeconds / steps / double(std::max<std::size_t>(fluid_->size(), 1))},
       {"phaseSeconds",

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "Boundary/RigidBodySystem.h"
 #include "Simulation/Emitter.h"
+#include "Simulation/MovingBodies.h"
 #include "Simulation/PluginRegistry.h"
 #include "Simulation/Probes.h"
 #include "Simulation/ResourceEstimate.h"
@@ -80,8 +80,8 @@ class Simulation {
   const CubicSplineKernel& kernel() const { return kernel_; }
   const LogSink& log() const { return log_; }
   // The moving boundary objects (dynamic and animated bodies); null when every object is static.
-  const RigidBodySystem* rigidBodies() const { return bodies_.get(); }
-  RigidBodySystem* rigidBodies() { return bodies_.get(); }
+  const MovingBodies* movingBodies() const { return bodies_.get(); }
+  MovingBodies* movingBodies() { return bodies_.get(); }
   // The scene's probes; null when it has none.
   const Probes* probes() const { return probes_.get(); }
 
@@ -165,7 +165,7 @@ class Simulation {
   NeighborLists fluidNeighbors_, boundaryNeighbors_;
   std::unique_ptr<FrameSeries> writer_, bodyWriter_;
   std::string bodyCsv_;  // every frame's body rows so far (rewritten atomically per frame)
-  std::unique_ptr<RigidBodySystem> bodies_;
+  std::unique_ptr<MovingBodies> bodies_;
   std::unique_ptr<RigidBodyGuard> bodyGuard_;  // null without dynamic bodies
   SpeedScale speedScale_;                      // the scene's largest speed, from its start state
   std::vector<Vector3r> pairImpulses_;  // per fluid-boundary pair, this step (two-way coupling, probes)

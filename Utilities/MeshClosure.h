@@ -1,5 +1,5 @@
 // Whether a triangle mesh is closed (watertight, two-manifold, consistently oriented): the
-// divergence-theorem mass properties of a dynamic body (Boundary/MassProperties.h) and the
+// divergence-theorem mass properties of a dynamic body (Utilities/MassProperties.h) and the
 // winding number hold only then. An open mesh can still report a positive volume (a box without
 // its lid does), so the sign of the volume alone does not tell.
 #pragma once

@@ -15,9 +15,9 @@
 #include <random>
 #include <vector>
 
-#include "Boundary/MassProperties.h"
 #include "Boundary/MeshSampling.h"
 #include "Utilities/Log.h"
+#include "Utilities/MassProperties.h"
 #include "Utilities/Timer.h"
 #include "Utilities/TriangleBvh.h"
 #include "Utilities/TriangleMesh.h"

@@ -293,10 +293,11 @@ restart: a checkpoint of the same scene (save_checkpoint, output.checkpointInter
           [](PySimulation& s) {
             // Copies: a scene has a handful of bodies, and their state lives in Eigen types.
             py::list out;
-            const RigidBodySystem* system = s.simulation().rigidBodies();
+            const MovingBodies* system = s.simulation().movingBodies();
             if (!system) return out;
             auto vec = [](const Vector3r& v) { return py::make_tuple(v[0], v[1], v[2]); };
-            for (const RigidBody& b : system->bodies()) {
+            for (std::size_t i = 0; i < system->count(); ++i) {
+              const MovingBodyState b = system->state(i);
               py::dict d;
               d["name"] = b.name;
               d["motion"] = b.motion == BodyMotion::Dynamic ? "dynamic" : "animated";

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "Boundary/RigidBodySystem.h"
 #include "Simulation/Simulation.h"
 
 namespace consph::test {
@@ -87,5 +88,9 @@ inline Real surfaceHeight(const FluidModel& f, std::size_t layerCount, Real half
   for (std::size_t i = 0; i < layerCount; ++i) sum += heights[i];
   return sum / Real(layerCount) + halfSpacing;
 }
+
+// The scene's rigid bodies as their implementation (the kernel sees them as MovingBodies);
+// null when every object is static.
+inline RigidBodySystem* rigidBodies(Simulation& s) { return dynamic_cast<RigidBodySystem*>(s.movingBodies()); }
 
 }  // namespace consph::test

@@ -80,8 +80,8 @@ void restartContinuesBitForBit(const json& scene) {
   // The scene did something in both halves: the jet emitted, the crate fell and rotated or slid.
   EXPECT_GT(straight->fluid().size(), particlesAtK);
   EXPECT_GT(straight->stats().particlesEmitted, 0u);
-  const RigidBody& a = straight->rigidBodies()->bodies().at(0);
-  const RigidBody& b = restarted->rigidBodies()->bodies().at(0);
+  const RigidBody& a = test::rigidBodies(*straight)->bodies().at(0);
+  const RigidBody& b = test::rigidBodies(*restarted)->bodies().at(0);
   EXPECT_LT(a.v[1], 0);
 
   EXPECT_EQ(restarted->stepCount(), straight->stepCount());

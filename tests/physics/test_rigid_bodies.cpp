@@ -221,7 +221,7 @@ Floating floatBox(double ratio, const char* boundaryModel) {
   const double r = 0.01, d = 1.8566 * r, side = kBoxSide, height = kBoxHeight, W = kTankWidth;
   const Vector3r size(side, height, side);
   auto sim = boxInTank(r, ratio, kFillDepth - ratio * height, boundaryModel);
-  const RigidBody& body = sim->rigidBodies()->bodies().at(0);
+  const RigidBody& body = test::rigidBodies(*sim)->bodies().at(0);
   // Settle, then average over the last second (the heave oscillation's mean is the equilibrium).
   sim->run(2.0);
   double sumFraction = 0, sumLevel = 0, maxSpeed = 0, sumColourFraction = 0, sumColourLevel = 0, sumPressureFraction = 0,
@@ -321,7 +321,7 @@ TEST(RigidBodies, BuoyancyWithAkinciSamplesWithinTwoPoints) {
 TEST(RigidBodies, HeldSubmergedBoxFeelsTheWeightOfItsVolumeOfWater) {
   const double r = 0.01;
   auto sim = boxInTank(r, 0, 0.08, "VolumeMap");
-  const RigidBody& body = sim->rigidBodies()->bodies().at(0);
+  const RigidBody& body = test::rigidBodies(*sim)->bodies().at(0);
   sim->run(1.5);
   double sum = 0;
   int n = 0;
@@ -353,7 +353,7 @@ TEST(RigidBodies, HeldSubmergedBoxFeelsTheWeightOfItsVolumeOfWater) {
 TEST(RigidBodies, ATenPercentDenserBoxSinks) {
   const double r = 0.02, d = 1.8566 * r, ratio = 1.1;
   auto sim = boxInTank(r, ratio, kFillDepth - kBoxHeight);
-  const RigidBody& body = sim->rigidBodies()->bodies().at(0);
+  const RigidBody& body = test::rigidBodies(*sim)->bodies().at(0);
   sim->run(3.0);
   const Real level = freeSurfaceLevel(sim->fluid(), Real(r), Real(d), body.x, Real(0.75 * kBoxSide + 2 * r));
   const double bottom = body.x[1] - kBoxHeight / 2, top = body.x[1] + kBoxHeight / 2;
@@ -382,7 +382,7 @@ TEST(RigidBodies, DenserBoxesFloatDeeper) {
       {"box": {"min": [0.78, 0.45, 0.08], "max": [1.02, 0.61, 0.32]}, "dynamic": true, "density": 800}],
     "output": {"enabled": false}})");
   sim->run(2.0);
-  const auto& b = sim->rigidBodies()->bodies();
+  const auto& b = test::rigidBodies(*sim)->bodies();
   // Boxes 1.5 times as wide as tall float face-up; the free surface: the highest particle centre
   // plus half a lattice spacing in the strip x > 1.04 beside the last box, then the mean.
   std::map<long, Real> columnTop;
@@ -423,8 +423,8 @@ TEST_P(CollisionMomentum, IsConservedToRoundOff) {
     "boundaries": [{"name": "box", "box": {"min": [0.35, 0.0, 0.0], "max": [0.55, 0.2, 0.3]}, "dynamic": true,
                     "density": 500, "angularVelocity": [0, 0, 0.5]}],
     "output": {"enabled": false}})");
-  const RigidBody& body = sim->rigidBodies()->bodies().at(0);
-  auto total = [&]() -> Vector3r { return fluidMomentum(sim->fluid()) + sim->rigidBodies()->momentum(); };
+  const RigidBody& body = test::rigidBodies(*sim)->bodies().at(0);
+  auto total = [&]() -> Vector3r { return fluidMomentum(sim->fluid()) + test::rigidBodies(*sim)->momentum(); };
   const Vector3r p0 = total();
   const double worst = worstRelativeChangePerStep(*sim, total, Real(0.2));
   std::printf("[ momentum ] %s/%s/%s: body momentum %.4f of the total, worst relative change per step %.3g\n", c.solver,
@@ -462,7 +462,7 @@ TEST_P(CollisionAngularMomentum, IsConservedToRoundOff) {
     "fluids": [{"blocks": [{"min": [0, 0, 0], "max": [0.3, 0.3, 0.3], "velocity": [2, 0, 0]}]}],
     "boundaries": [{"name": "cube", "box": {"min": [0.35, 0.2, 0.05], "max": [0.6, 0.45, 0.3]}, "dynamic": true, "density": 500}],
     "output": {"enabled": false}})");
-  const RigidBody& body = sim->rigidBodies()->bodies().at(0);
+  const RigidBody& body = test::rigidBodies(*sim)->bodies().at(0);
   auto total = [&]() -> Vector3r { return angularMomentumAboutOrigin(sim->fluid(), body); };
   const double worst = worstRelativeChangePerStep(*sim, total, Real(0.2));
   std::printf("[ angular momentum ] %s: body spins at %.3f rad/s, worst relative change per step %.3g\n", GetParam(),
@@ -487,8 +487,8 @@ TEST_P(LightBodyCollision, ConservesMomentumToRoundOff) {
     "fluids": [{"blocks": [{"min": [0, 0, 0], "max": [0.3, 0.3, 0.3], "velocity": [2, 0, 0]}]}],
     "boundaries": [{"name": "cube", "box": {"min": [0.35, 0.2, 0.05], "max": [0.6, 0.45, 0.3]}, "dynamic": true, "density": 10}],
     "output": {"enabled": false}})");
-  const RigidBody& body = sim->rigidBodies()->bodies().at(0);
-  auto linear = [&]() -> Vector3r { return fluidMomentum(sim->fluid()) + sim->rigidBodies()->momentum(); };
+  const RigidBody& body = test::rigidBodies(*sim)->bodies().at(0);
+  auto linear = [&]() -> Vector3r { return fluidMomentum(sim->fluid()) + test::rigidBodies(*sim)->momentum(); };
   auto angular = [&]() -> Vector3r { return angularMomentumAboutOrigin(sim->fluid(), body); };
   const Vector3r p0 = linear(), L0 = angular();
   double worstLinear = 0, worstAngular = 0, fastest = 0;
@@ -530,7 +530,7 @@ TEST_P(LightBodyRise, RisesAndFloats) {
     "boundaries": [{"name": "tank", "box": {"min": [0, 0, 0], "max": [0.4, 0.8, 0.4]}, "inverted": true},
                    {"name": "body", "box": {"min": [0.15, 0.08, 0.15], "max": [0.25, 0.18, 0.25]}, "dynamic": true, "density": 10}],
     "output": {"enabled": false}})");
-  const RigidBody& body = sim->rigidBodies()->bodies().at(0);
+  const RigidBody& body = test::rigidBodies(*sim)->bodies().at(0);
   const double e = 0.01, g = 9.81, rise = 0.3 - 0.13;
   const double bound = std::sqrt(2 * g * (1 - e) / (e + 0.5) * rise);
   double fastest = 0, highest = 0, lowLater = 1, highLater = 0, fastLater = 0;
@@ -569,7 +569,7 @@ TEST(RigidBodies, HingedWheelTurnsOnlyAboutItsAxle) {
                    {"name": "wheel", "box": {"min": [0.2, 0.45, 0.1], "max": [0.8, 0.55, 0.4]}, "dynamic": true,
                     "density": 300, "hinge": {"point": [0.5, 0.5, 0.25], "axis": [0, 0, 1]}}],
     "output": {"enabled": false}})");
-  const RigidBody& wheel = sim->rigidBodies()->bodies().at(0);
+  const RigidBody& wheel = test::rigidBodies(*sim)->bodies().at(0);
   const Vector3r axle(0.5, 0.5, 0.25), local = wheel.x - axle;  // the axle point seen from the body
   double worstPoint = 0, worstAxis = 0;
   while (sim->time() < 0.4) {
@@ -598,7 +598,7 @@ TEST(RigidBodies, HingedPendulumPeriodAndMotor) {
   char text[2048];
   std::snprintf(text, sizeof(text), scene, "");
   auto sim = makeSimulation(text);
-  const RigidBody& b = sim->rigidBodies()->bodies().at(0);
+  const RigidBody& b = test::rigidBodies(*sim)->bodies().at(0);
   // I about the axle: box 0.1 x 0.2 x 0.1 at d = 0.4 below it.
   const double m = 1000 * 0.1 * 0.2 * 0.1, d = 0.4, Iz = m * (0.1 * 0.1 + 0.2 * 0.2) / 12 + m * d * d;
   const double expected = 2 * std::numbers::pi * std::sqrt(Iz / (m * 9.81 * d));
@@ -620,7 +620,7 @@ TEST(RigidBodies, HingedPendulumPeriodAndMotor) {
   std::string withMotor = text;
   withMotor.replace(withMotor.find("\"particleRadius\""), 0, "\"gravity\": [0, 0, 0], ");
   sim = makeSimulation(withMotor);
-  const RigidBody& wheel = sim->rigidBodies()->bodies().at(0);
+  const RigidBody& wheel = test::rigidBodies(*sim)->bodies().at(0);
   sim->run(0.1);
   EXPECT_NEAR(wheel.w[2], 0.05 + 0.5 / Iz * 0.1, 1e-6);
   sim->run(4.0);
@@ -710,7 +710,7 @@ TEST(RigidBodies, OverlappingStartDoesNotExplode) {
                     "density": 580}],
     "output": {"enabled": false}})");
   EXPECT_GT(sim->stats().particlesDroppedInsideBodies, 0u);
-  const RigidBody& body = sim->rigidBodies()->bodies().at(0);
+  const RigidBody& body = test::rigidBodies(*sim)->bodies().at(0);
   const BoundarySamples& samples = sim->boundary();
   // Push-out speed: the first 0.05 s, before gravity accelerates anything beyond 0.5 m/s.
   double maxSpeed = 0, pushOutSpeed = 0;
@@ -757,7 +757,7 @@ void expectSinkingBoxRests(double offsetX, double offsetY, const char* model = "
     else scene["simulation"][key] = value;
   }
   auto sim = makeSimulation(scene.dump());
-  const RigidBody& body = sim->rigidBodies()->bodies().at(0);
+  const RigidBody& body = test::rigidBodies(*sim)->bodies().at(0);
   // The box's lowest point: its half extents (0.1, 0.05, 0.1) m in the world axes at t = 0,
   // turned by the rotation since then (x[1] - 0.05 assumed the box stays face down). It hits the
   // floor at t = 0.28 s and bounces off the squeezed fluid layer spinning (measured 2026-11-30):
@@ -778,12 +778,12 @@ void expectSinkingBoxRests(double offsetX, double offsetY, const char* model = "
   }
   const double tilt = Eigen::AngleAxis<Real>(body.rotation() * R0.transpose()).angle() * 180 / std::numbers::pi;
   std::printf("[ contact ] box bottom %.4f m (lowest %.4f), tilt %.1f deg, velocity (%.4f %.4f %.4f) m/s, %zu contacts, fastest fluid %.2f m/s\n",
-              bottom(), lowest, tilt, double(body.v[0]), double(body.v[1]), double(body.v[2]), sim->rigidBodies()->contactCount(),
+              bottom(), lowest, tilt, double(body.v[0]), double(body.v[1]), double(body.v[2]), test::rigidBodies(*sim)->contactCount(),
               fastestFluid);
   EXPECT_GT(lowest, -0.025);                // never more than r into the floor
   EXPECT_LT(bottom(), rest);                // on the floor, not floating
   EXPECT_LT(body.v.norm(), 0.02);           // resting on it (measured |v| < 1e-4 m/s with friction 0.5)
-  EXPECT_GT(sim->rigidBodies()->contactCount(), 0u);
+  EXPECT_GT(test::rigidBodies(*sim)->contactCount(), 0u);
   // The squeeze jet out of the closing gap: 4.8-9.9 m/s over seven offsets of up to 11 mm with
   // the "auto" treatment (measured 2026-12-02); a particle trapped in the gap left at 132 m/s.
   EXPECT_LT(fastestFluid, 15.0);
@@ -852,7 +852,7 @@ TEST_P(RigidContactWith, BoxStacksOnABoxWithoutFluid) {
                    {"name": "lower", "box": {"min": [0.2, 0.0, 0.2], "max": [0.4, 0.1, 0.4]}, "dynamic": true, "density": 1000},
                    {"name": "upper", "box": {"min": [0.22, 0.3, 0.22], "max": [0.38, 0.4, 0.38]}, "dynamic": true, "density": 500}],
     "output": {"enabled": false}})", GetParam());
-  const auto& b = sim->rigidBodies()->bodies();
+  const auto& b = test::rigidBodies(*sim)->bodies();
   sim->run(1.0);
   std::printf("[ contact ] lower bottom %.4f, upper bottom %.4f (lower top %.4f), speeds %.4f %.4f m/s\n", double(b[0].x[1] - 0.05),
               double(b[1].x[1] - 0.05), double(b[0].x[1] + 0.05), double(b[0].v.norm()), double(b[1].v.norm()));
@@ -879,7 +879,7 @@ Slide slideBox(double boxFriction, const char* model) {
     "output": {"enabled": false}})",
                 boxFriction);
   auto sim = withModel(text, model);
-  const RigidBody& box = sim->rigidBodies()->bodies().at(0);
+  const RigidBody& box = test::rigidBodies(*sim)->bodies().at(0);
   const double x0 = box.x[0];
   double stopTime = -1;
   while (sim->time() < 0.6) {
@@ -918,12 +918,12 @@ TEST_P(RigidContactWith, BodyBodyContactConservesMomentum) {
     "boundaries": [{"box": {"min": [0.0, 0.0, 0.0], "max": [0.2, 0.2, 0.2]}, "dynamic": true, "density": 1000, "velocity": [1, 0, 0]},
                    {"box": {"min": [0.4, 0.02, 0.0], "max": [0.6, 0.22, 0.2]}, "dynamic": true, "density": 500, "velocity": [-1, 0, 0]}],
     "output": {"enabled": false}})", GetParam());
-  const auto& b = sim->rigidBodies()->bodies();
-  const Vector3r p0 = sim->rigidBodies()->momentum();
+  const auto& b = test::rigidBodies(*sim)->bodies();
+  const Vector3r p0 = test::rigidBodies(*sim)->momentum();
   double worst = 0, closest = 1e9;
   while (sim->time() < 0.4) {
     sim->step();
-    worst = std::max(worst, double((sim->rigidBodies()->momentum() - p0).norm() / p0.norm()));
+    worst = std::max(worst, double((test::rigidBodies(*sim)->momentum() - p0).norm() / p0.norm()));
     closest = std::min(closest, double(b[1].x[0] - b[0].x[0]));
   }
   // Where the faces touch (the middle of the shared patch), the second box must not approach the

@@ -1,4 +1,4 @@
-// Bodies fail loudly like the fluid (Boundary/RigidBodyGuard.h): a body that blows up stops the
+// Bodies fail loudly like the fluid (Simulation/RigidBodyGuard.h): a body that blows up stops the
 // run naming the body, the step and the time (CLI exit 3); a dynamic body with an open mesh is
 // refused at load (exit 2); bodies drawn into each other at t = 0 are named in a warning and come
 // apart gently (RigidContact::kMaxPushOutSpeed).
@@ -34,14 +34,14 @@ TEST(RigidBodyGuards, AFeatherLightBodyRisesWithoutBlowingUp) {
   double fastest = 0;
   while (sim->time() < 0.3) {
     sim->step();
-    fastest = std::max(fastest, double(sim->rigidBodies()->bodies()[0].v.norm()));
+    fastest = std::max(fastest, double(test::rigidBodies(*sim)->bodies()[0].v.norm()));
   }
   std::printf("[ guard ] feather-light box: fastest %.3f m/s, centre at %.3f m after 0.3 s\n", fastest,
-              double(sim->rigidBodies()->bodies()[0].x[1]));
+              double(test::rigidBodies(*sim)->bodies()[0].x[1]));
   // A frictionless rise with a sphere's added mass (a = 2 g) over the 0.12 m from its centre
   // to the water's surface, and then some: nowhere near the guard's 22 m/s.
   EXPECT_LT(fastest, 2 * std::sqrt(2 * 2 * 9.81 * 0.12));
-  EXPECT_GT(sim->rigidBodies()->bodies()[0].x[1], 0.2);  // it rose
+  EXPECT_GT(test::rigidBodies(*sim)->bodies()[0].x[1], 0.2);  // it rose
 }
 
 // A hinged body takes no added mass (advanceHinged): the same feather-light box on an axle
@@ -93,7 +93,7 @@ TEST(RigidBodyGuards, TheSpeedBoundIsTenTimesTheFreeFallSpeedOfTheScene) {
 TEST(RigidBodyGuards, ANonFiniteBodyStops) {
   auto sim = test::simulationFromJson(submergedBox(500));
   sim->step();
-  sim->rigidBodies()->bodies()[0].w = Vector3r(std::nan(""), 0, 0);
+  test::rigidBodies(*sim)->bodies()[0].w = Vector3r(std::nan(""), 0, 0);
   try {
     sim->step();
     FAIL() << "no error";
@@ -106,7 +106,7 @@ TEST(RigidBodyGuards, ANonFiniteBodyStops) {
 TEST(RigidBodyGuards, ABodyLeavingTheDomainStops) {
   auto sim = test::simulationFromJson(submergedBox(500));
   sim->step();
-  sim->rigidBodies()->bodies()[0].x += Vector3r(0, 5, 0);  // far above the tank, at rest
+  test::rigidBodies(*sim)->bodies()[0].x += Vector3r(0, 5, 0);  // far above the tank, at rest
   try {
     sim->step();
     FAIL() << "no error";
@@ -165,7 +165,7 @@ TEST(RigidBodyGuards, OverlappingBodiesAtTheStartWarnAndSeparateGently) {
   EXPECT_TRUE(warned("'a' (boundaries[1])", "'b' (boundaries[2])"));
   EXPECT_TRUE(warned("'floor' (boundaries[0])", "'c' (boundaries[3])"));
   EXPECT_FALSE(warned("'a'", "'c'"));
-  const auto& bodies = sim->rigidBodies()->bodies();
+  const auto& bodies = test::rigidBodies(*sim)->bodies();
   double speed = 0, spin = 0;
   while (sim->time() < 0.3) {
     sim->step();

@@ -4,8 +4,8 @@
 
 #include <Eigen/Geometry>
 
-#include "Boundary/MassProperties.h"
 #include "Simulation/ParticleFields.h"
+#include "Utilities/MassProperties.h"
 #include "TestUtil.h"
 
 using namespace consph;

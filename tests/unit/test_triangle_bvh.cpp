@@ -8,8 +8,8 @@
 #include <cmath>
 #include <random>
 
-#include "Boundary/MassProperties.h"
 #include "Boundary/MeshSampling.h"
+#include "Utilities/MassProperties.h"
 #include "Utilities/TriangleBvh.h"
 #include "Utilities/TriangleMesh.h"
 #include "TestUtil.h"

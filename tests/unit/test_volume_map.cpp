@@ -280,7 +280,7 @@ TEST(VolumeMapBoundary, AMovingBodysMapTurnsWithIt) {
   pose.rotation = Eigen::AngleAxis<Real>(Real(std::numbers::pi / 2), Vector3r::UnitZ()).toRotationMatrix();
   pose.velocity = Vector3r(0.1, 0, 0);
   pose.angularVelocity = Vector3r(0, 0, 2);
-  model->setPose(0, pose);
+  model->follow({PoseUpdate{0, pose}});
   fluid.resize(2);
   fluid.positions[0] = Vector3r(0.25 + 2.5 * kR, 0.05, 0.2);  // beside the turned plate
   fluid.positions[1] = Vector3r(0.4, 0.1 + 2.5 * kR, 0.2);    // above where its top face was, 6 r off the turned plate
@@ -297,7 +297,7 @@ TEST(VolumeMapBoundary, AMovingBodysMapTurnsWithIt) {
   EXPECT_GT(std::abs(lists.gradW[lists.begin(0)].normalized().dot(Vector3r::UnitX())), Real(0.999));
   // The mass is the unturned plate's volume at the same distance from a face.
   fluid.positions[0] = Vector3r(0.2, -2.5 * kR, 0.2);
-  model->setPose(0, ObjectPose{Matrix3r::Identity(), pose.centre, pose.initialCentre});
+  model->follow({PoseUpdate{0, ObjectPose{Matrix3r::Identity(), pose.centre, pose.initialCentre}}});
   NeighborLists unturned;
   const Real mass = b.masses[k];
   model->findNeighbors(fluid, kernel, unturned);
@@ -366,12 +366,12 @@ TEST(VolumeMapBoundary, DynamicBodiesGetContactPointsWithoutAWarning) {
   auto sim = test::simulationFromJson(s, log.sink());
   EXPECT_TRUE(log.warnings.empty()) << log.warnings[0];
   // Its 0.1 m cube, r/2 inside: a 0.075 m cube's faces sampled r apart (measured: 98 points).
-  const RigidBody& body = sim->rigidBodies()->bodies().at(0);
+  const RigidBody& body = test::rigidBodies(*sim)->bodies().at(0);
   EXPECT_GT(body.contactSamples.size(), 80u);
   EXPECT_TRUE(body.samples.empty());
   // The body falls in the empty upper tank as it would with sample layers.
   sim->run(Real(0.1));
-  EXPECT_NEAR(sim->rigidBodies()->bodies().at(0).v[1], -9.81 * 0.1, 0.02);
+  EXPECT_NEAR(test::rigidBodies(*sim)->bodies().at(0).v[1], -9.81 * 0.1, 0.02);
 }
 
 

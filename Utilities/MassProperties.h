@@ -5,7 +5,7 @@
 //   (the method of B. Mirtich: Fast and Accurate Computation of Polyhedral Mass Properties.
 //   Journal of Graphics Tools 1(2), 1996).
 #pragma once
-#include "Simulation/Common.h"
+#include "Utilities/Types.h"
 #include "Utilities/TriangleMesh.h"
 
 namespace consph {

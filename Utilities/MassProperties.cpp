@@ -1,4 +1,4 @@
-#include "Boundary/MassProperties.h"
+#include "Utilities/MassProperties.h"
 
 #include <Eigen/Geometry>
 #include <cmath>

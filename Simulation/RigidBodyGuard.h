@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "Boundary/RigidBody.h"
+#include "Simulation/MovingBodies.h"
 
 namespace consph {
 
@@ -28,15 +28,14 @@ class RigidBodyGuard {
   static Limits limitsFor(Real speedScale, bool hasDomain, const Vector3r& domainMin, const Vector3r& domainMax);
 
   // `labels[b]`: how messages name body b ("'box' (boundaries[1])").
-  RigidBodyGuard(const std::vector<RigidBody>& bodies, std::vector<std::string> labels, const Limits& limits);
+  RigidBodyGuard(std::vector<std::string> labels, const Limits& limits);
 
   // Throws SimulationError for the first dynamic body that blew up.
-  void check(const std::vector<RigidBody>& bodies, std::size_t step, Real time) const;
+  void check(const MovingBodies& bodies, std::size_t step, Real time) const;
   const Limits& limits() const { return limits_; }
 
  private:
   std::vector<std::string> labels_;
-  std::vector<Real> radius_;  // per body: its farthest surface point from the centre of mass, m
   Limits limits_;
 };
 

@@ -1,4 +1,4 @@
-#include "Boundary/RigidBodyGuard.h"
+#include "Simulation/RigidBodyGuard.h"
 
 #include <algorithm>
 #include <sstream>
@@ -18,24 +18,18 @@ RigidBodyGuard::Limits RigidBodyGuard::limitsFor(Real speedScale, bool hasDomain
   return l;
 }
 
-RigidBodyGuard::RigidBodyGuard(const std::vector<RigidBody>& bodies, std::vector<std::string> labels, const Limits& limits)
-    : labels_(std::move(labels)), limits_(limits) {
-  for (const RigidBody& b : bodies) {
-    Real r = 0;
-    for (const Vector3r& v : b.localMesh.vertices) r = std::max(r, v.norm());
-    radius_.push_back(r);
-  }
-}
+RigidBodyGuard::RigidBodyGuard(std::vector<std::string> labels, const Limits& limits)
+    : labels_(std::move(labels)), limits_(limits) {}
 
-void RigidBodyGuard::check(const std::vector<RigidBody>& bodies, std::size_t step, Real time) const {
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    const RigidBody& b = bodies[i];
+void RigidBodyGuard::check(const MovingBodies& bodies, std::size_t step, Real time) const {
+  for (std::size_t i = 0; i < bodies.count(); ++i) {
+    const MovingBodyState b = bodies.state(i);
     if (b.motion != BodyMotion::Dynamic) continue;  // animated bodies move as prescribed
     std::ostringstream s;
     s << "step " << step << ", t = " << time << " s: dynamic body " << labels_[i];
     if (!b.x.allFinite() || !b.v.allFinite() || !b.w.allFinite() || !b.q.coeffs().allFinite())
       throw SimulationError(s.str() + " has a non-finite position, orientation or velocity (NaN/inf): the simulation blew up");
-    const Real speed = b.v.norm() + b.w.norm() * radius_[i];
+    const Real speed = b.v.norm() + b.w.norm() * b.reach;
     if (speed > limits_.maxSpeed) {
       s << " moves at " << speed << " m/s (|v| + |w| R, v = " << b.v.norm() << " m/s, w = " << b.w.norm()
         << " rad/s), beyond the scene's bound of " << limits_.maxSpeed << " m/s (" << kSpeedFactor
