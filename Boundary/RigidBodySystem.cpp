@@ -1,7 +1,5 @@
 #include "Boundary/RigidBodySystem.h"
 
-#include <omp.h>
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -98,15 +96,13 @@ RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, con
 void RigidBodySystem::takeFluidImpulses(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
                                           const BoundarySamples& samples, const std::vector<Vector3r>& pairImpulses) {
   const std::size_t nb = bodies_.size(), n = lists.queryCount();
-  const int threads = omp_get_max_threads();
-  perThread_.assign(std::size_t(threads) * nb * 2, Vector3r::Zero());
-  // Raw OpenMP, not parallelReduce: the per-thread sums live in a buffer kept between steps (no
-  // allocation per call), and are added to the running totals thread by thread, in this order.
-#pragma omp parallel
-  {
-    Vector3r* acc = perThread_.data() + std::size_t(omp_get_thread_num()) * nb * 2;
-#pragma omp for schedule(static)
-    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i)
+  const std::size_t chunks = parallelChunkCount();
+  perThread_.assign(chunks * nb * 2, Vector3r::Zero());
+  // Chunks, not parallelReduce: the per-chunk sums live in a buffer kept between steps (no
+  // allocation per call), and are added to the running totals chunk by chunk, in this order.
+  parallelChunks(n, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    Vector3r* acc = perThread_.data() + chunk * nb * 2;
+    for (std::size_t i = begin; i < end; ++i)
       for (Index e = lists.begin(i); e < lists.end(i); ++e) {
         const Index k = lists.indices[e];
         const Index b = bodyOfObject_[samples.bodies[k]];
@@ -119,11 +115,11 @@ void RigidBodySystem::takeFluidImpulses(const NeighborLists& lists, const std::v
         // along it, where x_i and x_k give the same torque).
         acc[2 * b + 1] += (fluidPositions[i] - bodies_[b].x).cross(J);
       }
-  }
-  for (int t = 0; t < threads; ++t)
+  });
+  for (std::size_t t = 0; t < chunks; ++t)
     for (std::size_t b = 0; b < nb; ++b) {
-      impulse_[b] += perThread_[(std::size_t(t) * nb + b) * 2];
-      angularImpulse_[b] += perThread_[(std::size_t(t) * nb + b) * 2 + 1];
+      impulse_[b] += perThread_[(t * nb + b) * 2];
+      angularImpulse_[b] += perThread_[(t * nb + b) * 2 + 1];
     }
   // The fluid touching each light body (advance() lends it to the body), each particle once.
   // Serial, and only with a light body in the scene.

@@ -1,10 +1,10 @@
 #include "Boundary/RigidContact.h"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <limits>
 #include <tuple>
+
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
 
@@ -53,52 +53,51 @@ std::vector<RigidContact::Contact> RigidContact::findContacts(const std::vector<
     return false;
   };
 
-  const int threads = omp_get_max_threads();
-  perThread_.assign(std::size_t(threads), {});
+  perThread_.assign(parallelChunkCount(), {});
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     if (!solvable[b]) continue;
     const RigidBody& body = bodies[b];
     const Index object = body.object;
     const bool withMoving = nearOtherBody(b);
-    const std::ptrdiff_t n = std::ptrdiff_t(body.contactSamples.size());
-    // Raw OpenMP, not Utilities/ParallelFor.h: each thread appends to its own list across all
-    // bodies, and the lists are concatenated in thread order (the order the solver sees).
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t s = 0; s < n; ++s) {
-      const Index k = body.contactSamples[s];
-      const Vector3r xk = samples.positions[k];
-      // The closest other object, then its surface near x_k from the weighted mean and spread
-      // of its samples there: a sample-to-sample direction would tilt wherever the two sample
-      // grids do not line up and push the bodies sideways.
-      Index closestObject = kNone, closestSample = kNone;
-      Real closest = std::numeric_limits<Real>::max();
-      forEachSampleNear(xk, cell, withMoving, [&](Index l, const Vector3r& xl) {
-        if (samples.bodies[l] == object) return;
-        const Real distance = (xk - xl).norm();
-        if (distance < closest) {
-          closest = distance;
-          closestObject = samples.bodies[l];
-          closestSample = l;
-        }
-      });
-      if (closestObject == kNone) continue;
-      const Real radius = cell;
-      Vector3r direction = Vector3r::Zero(), mean = Vector3r::Zero();
-      Real weightSum = 0;
-      forEachSampleNear(xk, radius, withMoving, [&](Index l, const Vector3r& xl) {
-        if (samples.bodies[l] != closestObject) return;
-        const Real q = 1 - (xk - xl).norm() / radius, w = q * q;
-        direction += w * (xk - xl);
-        mean += w * xl;
-        weightSum += w;
-      });
-      if (weightSum <= 0 || direction.norm() <= 0) continue;
-      const Vector3r normal = direction.normalized();
-      const Real gap = (xk - mean / weightSum).dot(normal) - std::max(layerDepth_[object] + layerDepth_[closestObject], minDistance_);
-      if (gap < margin)
-        perThread_[std::size_t(omp_get_thread_num())].push_back(
-            {Index(b), bodyOfObject[closestObject], k, closestSample, normal, gap, std::sqrt(friction_[object] * friction_[closestObject])});
-    }
+    // Each chunk appends to its own list across all bodies, and the lists are concatenated in
+    // chunk order (the order the solver sees).
+    parallelChunks(body.contactSamples.size(), [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+      for (std::size_t s = begin; s < end; ++s) {
+        const Index k = body.contactSamples[s];
+        const Vector3r xk = samples.positions[k];
+        // The closest other object, then its surface near x_k from the weighted mean and spread
+        // of its samples there: a sample-to-sample direction would tilt wherever the two sample
+        // grids do not line up and push the bodies sideways.
+        Index closestObject = kNone, closestSample = kNone;
+        Real closest = std::numeric_limits<Real>::max();
+        forEachSampleNear(xk, cell, withMoving, [&](Index l, const Vector3r& xl) {
+          if (samples.bodies[l] == object) return;
+          const Real distance = (xk - xl).norm();
+          if (distance < closest) {
+            closest = distance;
+            closestObject = samples.bodies[l];
+            closestSample = l;
+          }
+        });
+        if (closestObject == kNone) continue;
+        const Real radius = cell;
+        Vector3r direction = Vector3r::Zero(), mean = Vector3r::Zero();
+        Real weightSum = 0;
+        forEachSampleNear(xk, radius, withMoving, [&](Index l, const Vector3r& xl) {
+          if (samples.bodies[l] != closestObject) return;
+          const Real q = 1 - (xk - xl).norm() / radius, w = q * q;
+          direction += w * (xk - xl);
+          mean += w * xl;
+          weightSum += w;
+        });
+        if (weightSum <= 0 || direction.norm() <= 0) continue;
+        const Vector3r normal = direction.normalized();
+        const Real gap = (xk - mean / weightSum).dot(normal) - std::max(layerDepth_[object] + layerDepth_[closestObject], minDistance_);
+        if (gap < margin)
+          perThread_[chunk].push_back(
+              {Index(b), bodyOfObject[closestObject], k, closestSample, normal, gap, std::sqrt(friction_[object] * friction_[closestObject])});
+      }
+    });
   }
   std::vector<Contact> contacts;
   for (auto& list : perThread_) contacts.insert(contacts.end(), list.begin(), list.end());

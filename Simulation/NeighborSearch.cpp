@@ -1,6 +1,5 @@
 #include "Simulation/NeighborSearch.h"
 
-#include <omp.h>
 
 #include <algorithm>
 #include <numeric>
@@ -68,26 +67,24 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
   const Real h = kernel.supportRadius();
   out.offsets.resize(n + 1);
   out.offsets[0] = 0;
-  const int maxThreads = omp_get_max_threads();
-  // Per-thread buffers live in `out`, so steady-state steps allocate nothing.
-  out.scratchIndices.resize(maxThreads);
-  out.scratchGradW.resize(maxThreads);
-  out.scratchCandidates.resize(maxThreads);
-  out.scratchCandidateIds.resize(maxThreads);
-  std::vector<std::size_t> chunkBegin(maxThreads + 1, n);
+  const std::size_t chunks = parallelChunkCount();
+  // Per-chunk buffers live in `out`, so steady-state steps allocate nothing.
+  out.scratchIndices.resize(chunks);
+  out.scratchGradW.resize(chunks);
+  out.scratchCandidates.resize(chunks);
+  out.scratchCandidateIds.resize(chunks);
+  std::vector<std::size_t> chunkBegin(chunks, n);
+  // A chunk a smaller team leaves out must not copy an earlier call's lists.
+  for (std::size_t t = 0; t < chunks; ++t) out.scratchIndices[t].clear(), out.scratchGradW[t].clear();
   const Real h2 = h * h;
-  // Raw OpenMP, not Utilities/ParallelFor.h: each thread fills its own buffers over its own chunk,
-  // and the buffers are then copied into the CSR arrays by thread (a GPU backend would count,
-  // prefix-sum and fill instead).
-#pragma omp parallel
-  {
-    // Static chunks in thread order: concatenating the per-thread buffers gives the CSR array.
+  // Each chunk fills its own buffers, which are then copied into the CSR arrays by chunk (a GPU
+  // backend would count, prefix-sum and fill instead).
+  parallelChunks(n, [&](std::size_t t, std::size_t b, std::size_t e) {
+    // Chunks in index order: concatenating their buffers gives the CSR array.
     // Queries are Z-sorted, so consecutive ones mostly share a cell: the candidates of the 27
     // cells around it are gathered once into a structure-of-arrays buffer, whose distance test
     // vectorises. grad W is evaluated while x_j is in cache. The order within a list is
     // deterministic (cells in a fixed order, entries in cell order).
-    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-    const std::size_t b = n * t / nt, e = n * (t + 1) / nt;
     chunkBegin[t] = b;
     // The buffers are moved into locals: their headers (size, capacity) then live on this
     // thread's stack, not side by side in a shared array where every push_back would fight
@@ -147,16 +144,15 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
     out.scratchGradW[t] = std::move(grad);
     out.scratchCandidates[t] = std::move(cand);
     out.scratchCandidateIds[t] = std::move(candId);
-  }
+  });
   for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
   out.indices.resize(out.offsets[n]);
   out.gradW.resize(out.offsets[n]);
-#pragma omp parallel for schedule(static, 1)
-  for (int t = 0; t < maxThreads; ++t) {
+  parallelFor(chunks, [&](std::size_t t) {
     const std::size_t at = out.offsets[chunkBegin[t]];
     std::copy(out.scratchIndices[t].begin(), out.scratchIndices[t].end(), out.indices.begin() + at);
     std::copy(out.scratchGradW[t].begin(), out.scratchGradW[t].end(), out.gradW.begin() + at);
-  }
+  });
 }
 
 namespace {

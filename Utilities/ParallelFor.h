@@ -13,6 +13,11 @@
 //                                  (integer counts, min, max, flags)
 //   parallelSum<T>(n, f)           sum of f(i) in T        parallelMax<T>(n, init, f)  max(init, f(i))
 //   parallelAny(n, pred)           whether pred(i) holds for some i
+//   parallelChunks(n, body)        body(chunk, begin, end) once per thread over its contiguous
+//                                  chunk [begin, end) of [0, n), the chunks of parallelFor's static
+//                                  schedule, chunk = 0 .. parallelChunkCount() - 1 in index order:
+//                                  for loops that fill one buffer per chunk (neighbour lists, contact
+//                                  lists, per-body sums) and then join the buffers in chunk order
 //
 // Reductions are reproducible: the schedule is static, each thread folds its own contiguous chunk
 // in index order, and the threads' accumulators are joined in thread order after the loop, so
@@ -31,9 +36,9 @@
 // - a reduction's join must be associative (the device joins in a tree, not in thread order):
 //   device sums will differ from the CPU's in the last bits, as they do across thread counts;
 // - parallelForDynamic is a hint of uneven cost; a device launch ignores it;
-// - the loops left raw (neighbour-list build, rigid contacts, per-body impulse gathering) keep
-//   per-thread buffers indexed by thread number and concatenate them in thread order: a device
-//   backend replaces them with a count / prefix-sum / fill pass, or with a per-block reduction.
+// - parallelChunks' bodies (neighbour-list build, rigid contacts, per-body impulse gathering)
+//   keep one buffer per chunk and concatenate or add them in chunk order: a device backend
+//   replaces them with a count / prefix-sum / fill pass, or with a per-block reduction.
 #pragma once
 #include <algorithm>
 #include <cstddef>
@@ -59,6 +64,34 @@ void parallelForDynamic(std::size_t n, F&& f, std::size_t chunk = 256) {
   chunk = std::max<std::size_t>(chunk, 1);
 #pragma omp parallel for schedule(dynamic, chunk)
   for (std::size_t i = 0; i < n; ++i) f(i);
+}
+
+// How many chunks parallelChunks may hand out: one per thread a parallel region may have.
+inline std::size_t parallelChunkCount() {
+#ifdef _OPENMP
+  return std::size_t(omp_get_max_threads());
+#else
+  return 1;
+#endif
+}
+
+// body(chunk, begin, end) once per thread, over the contiguous chunk [begin, end) of [0, n)
+// that OpenMP's static schedule gives thread `chunk` (the first n % threads take one more), so
+// that a loop over [begin, end) adds in the order parallelFor's and parallelReduce's would.
+// Empty chunks are called too (a body may reset its buffer).
+template <class Body>
+void parallelChunks(std::size_t n, Body&& body) {
+#ifdef _OPENMP
+#pragma omp parallel
+  {
+    const std::size_t t = std::size_t(omp_get_thread_num()), threads = std::size_t(omp_get_num_threads());
+    const std::size_t q = n / threads, r = n % threads;
+    const std::size_t begin = t * q + std::min(t, r);
+    body(t, begin, begin + q + (t < r ? 1 : 0));
+  }
+#else
+  body(std::size_t(0), std::size_t(0), n);
+#endif
 }
 
 namespace parallel_detail {

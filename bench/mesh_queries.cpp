@@ -17,6 +17,7 @@
 
 #include "Boundary/MeshSampling.h"
 #include "Utilities/Log.h"
+#include "Utilities/ParallelFor.h"
 #include "Utilities/MassProperties.h"
 #include "Utilities/Timer.h"
 #include "Utilities/TriangleBvh.h"
@@ -102,8 +103,7 @@ int main(int argc, char** argv) {
     for (auto& q : queries) q = Vector3r(Real(u(rng)), Real(u(rng)), Real(u(rng)));
     std::vector<char> inside(points);
     Timer pim;
-#pragma omp parallel for schedule(dynamic, 256)
-    for (int i = 0; i < points; ++i) inside[i] = bvh.windingNumber(queries[i]) > Real(0.5);
+    parallelForDynamic(std::size_t(points), [&](std::size_t i) { inside[i] = bvh.windingNumber(queries[i]) > Real(0.5); });
     const double pimSeconds = pim.seconds();
     Timer brute;
     const int bruteQueries = 50;

@@ -2,7 +2,8 @@
 # The include layers (issue 17): Utilities/ is the bottom layer and includes nothing from
 # Simulation/, Boundary/, Plugins/ or pysph_bindings/; no C++ file outside pysph_bindings/
 # includes the bindings; Simulation/ includes nothing from Boundary/ or Plugins/ (it sees them
-# through its interfaces: BoundaryModel, MovingBodies, PressureSolver, NonPressureForce).
+# through its interfaces: BoundaryModel, MovingBodies, PressureSolver, NonPressureForce); and no
+# OpenMP parallel region outside Utilities/ParallelFor.h (the one dispatch for particle loops).
 # Usage: tests/include_layers.sh [SOURCE_DIR]   (ctest: include_layers)
 set -euo pipefail
 cd "${1:-$(dirname "$0")/..}"
@@ -39,6 +40,10 @@ report "C++ outside pysph_bindings/ includes the bindings" "$(includes "${others
 
 report "Simulation/ includes an implementation layer (it sees Boundary/ and Plugins/ through its interfaces)" \
   "$(includes Simulation -- Boundary Plugins)"
+# One dispatch for particle loops (issue 17): OpenMP parallel regions only in Utilities/ParallelFor.h.
+raw=$(grep -rnE --include='*.h' --include='*.hpp' --include='*.cpp' '^[[:space:]]*#[[:space:]]*pragma[[:space:]]+omp[[:space:]]+parallel' \
+  Utilities Simulation Boundary Plugins pysph_bindings bench 2>/dev/null | grep -v '^Utilities/ParallelFor.h:' || true)
+report "a parallel loop outside the dispatch (use Utilities/ParallelFor.h)" "$raw"
 if [ "$failed" -ne 0 ]; then
   echo "include_layers: FAILED"
   exit 1

@@ -37,13 +37,11 @@ void MicropolarModel_Bender2019::addAccelerations(StepContext& ctx) {
   const Real dt = ctx.dt, nuT = vorticity_, thetaInv = inertiaInverse_;
   const Real smoothing = thetaInv * viscosityOmega_ / dt;
   angularAcceleration_.resize(f.size());
-  // Raw OpenMP, not parallelFor: as a lambda body this loop compiles (GCC 12, float,
-  // -march=native) with some of its a b - c d terms (cross products, the last line) fused the
-  // other way round, fma(-c, d, a b) instead of fma(a, b, -c d), which moves float results in
-  // the last bits (double ones stayed the same; measured 2026-12-02 on a dam break with this
-  // force). It can move behind the dispatch in a change that is allowed to move results.
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
+  // As a lambda body this loop compiles (GCC 12, float, -march=native) with some of its
+  // a b - c d terms (cross products, the last line) fused the other way round than as a raw
+  // OpenMP loop, fma(-c, d, a b) instead of fma(a, b, -c d): float results moved in the last bits
+  // when it went behind the dispatch (double ones stayed the same; measured 2026-12-02).
+  parallelFor(n, [&](std::size_t i) {
     const Vector3r xi = f.positions[i], vi = f.velocities[i], wi = omega_[i];
     Vector3r curlOmega = Vector3r::Zero(), curlV = Vector3r::Zero(), smooth = Vector3r::Zero();
     for (Index e = fn.begin(i); e < fn.end(i); ++e) {
@@ -62,7 +60,7 @@ void MicropolarModel_Bender2019::addAccelerations(StepContext& ctx) {
     const Real invRho = Real(1) / f.densities[i];
     f.accelerations[i] += nuT * invRho * curlOmega;
     angularAcceleration_[i] = thetaInv * nuT * (invRho * curlV - 2 * wi) - smoothing * smooth;
-  }
+  });
   // Explicit Euler on omega, after every particle has read the old omega_j.
   parallelFor(n, [&](std::size_t i) { omega_[i] += dt * angularAcceleration_[i]; });
 }

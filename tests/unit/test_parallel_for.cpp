@@ -143,3 +143,39 @@ TEST(ParallelFor, ReduceJoinsSeveralAccumulatorsAndArrays) {
     }
   }
 }
+
+TEST(ParallelFor, ChunksAreParallelForsThreadChunksInIndexOrder) {
+  // parallelChunks hands each thread the chunk parallelFor's static schedule gives it, so a
+  // per-chunk buffer filled over [begin, end) and joined in chunk order adds exactly as
+  // parallelSum does, and concatenated lists come out in index order.
+  for (int threads : kThreadCounts) {
+    Threads t(threads);
+    for (std::size_t n : kSizes) {
+      std::vector<int> owner(n, -1);
+      parallelFor(n, [&](std::size_t i) { owner[i] = omp_get_thread_num(); });
+      const std::size_t chunks = parallelChunkCount();
+      ASSERT_EQ(chunks, std::size_t(threads));
+      std::vector<std::vector<std::size_t>> lists(chunks);
+      std::vector<double> sums(chunks, 0.0);
+      std::vector<int> calls(chunks, 0);
+      parallelChunks(n, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+        ++calls[chunk];
+        for (std::size_t i = begin; i < end; ++i) {
+          lists[chunk].push_back(i);
+          sums[chunk] += term(i);
+          EXPECT_EQ(owner[i], int(chunk)) << "n = " << n << ", i = " << i << ", " << threads << " threads";
+        }
+      });
+      std::vector<std::size_t> joined;
+      double sum = 0;
+      for (std::size_t c = 0; c < chunks; ++c) {
+        EXPECT_EQ(calls[c], 1) << "every chunk once, empty ones too (n = " << n << ")";
+        joined.insert(joined.end(), lists[c].begin(), lists[c].end());
+        sum += sums[c];
+      }
+      ASSERT_EQ(joined.size(), n);
+      for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(joined[i], i);
+      EXPECT_EQ(sum, parallelSum<double>(n, term)) << "n = " << n << ", " << threads << " threads";
+    }
+  }
+}
