@@ -56,8 +56,10 @@ Simulation::Simulation(SceneDescription scene, const PluginRegistry& plugins, Lo
                                 "(docs/boundary-pressure.md); \"consistent\" (the \"auto\" choice) is the treatment for them");
   bodies_ = makeMovingBodies(scene_.boundaries, *boundaryModel_, scene_.particleRadius, fluid_->density0(), log_);
   if (bodies_) boundaryModel_->follow(bodies_->poses(false));  // the bodies' initial velocities
+  PluginContext solverContext = context;
+  solverContext.boundaryPressure = scene_.boundaryPressure;  // "auto" resolved above
   pressureSolver_ = plugins_.pressureSolvers.create(scene_.pressureSolver["type"].get<std::string>(), scene_.pressureSolver,
-                                                    "simulation.pressureSolver", context, log_);
+                                                    "simulation.pressureSolver", solverContext, log_);
   for (std::size_t i = 0; i < fd.forces.size(); ++i)
     forces_.push_back(plugins_.forces.create(fd.forces[i]["type"].get<std::string>(), fd.forces[i],
                                              fd.path + ".forces[" + std::to_string(i) + "]", context, log_));
@@ -352,7 +354,7 @@ void Simulation::removeParticlesOutside() {
 
 StepContext Simulation::makeContext() {
   return StepContext{*fluid_,          boundaryModel_->samples(), fluidNeighbors_, boundaryNeighbors_,
-                     kernel_,          scene_.boundaryPressure,   scene_.gravity,  scene_.particleRadius,
+                     kernel_,          scene_.gravity,            scene_.particleRadius,
                      dt_,              dtPrevious_,               densityRelaxationTime_, time_,
                      stats_.steps,     log_,                      bodies_ && bodies_->hasFreeDynamic() ? bodies_.get() : nullptr,
                      boundaryModel_->implicit()};

@@ -26,7 +26,6 @@ struct StepContext {
   const NeighborLists& fluidNeighbors;     // fluid i -> fluid j (j != i)
   const NeighborLists& boundaryNeighbors;  // fluid i -> boundary sample k
   const CubicSplineKernel& kernel;
-  BoundaryPressure boundaryPressure;
   Vector3r gravity;
   Real particleRadius;
   Real dt;          // this step's time step (set before the pressure solve)
@@ -53,6 +52,9 @@ struct PluginContext {
   const LogSink& log;
   Real particleSpacing = 0;  // m, the fluid lattice spacing d (particle volume d^3); 0: 0.8^(1/3) 2r
   std::string sceneDirectory = {};  // the scene file's folder (relative paths a plugin writes, e.g. a cache)
+  // The boundary pressure treatment, for pressure solvers: simulation.boundaryPressure with
+  // "auto" resolved for the boundary model (Simulation's constructor).
+  BoundaryPressure boundaryPressure = BoundaryPressure::Consistent;
 };
 
 }  // namespace consph

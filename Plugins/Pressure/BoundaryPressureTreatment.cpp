@@ -9,8 +9,6 @@
 namespace consph {
 
 void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
-  mode_ = ctx.boundaryPressure;
-  classicalDiagonal_ = mode_ != BoundaryPressure::Consistent;
   const FluidModel& f = ctx.fluid;
   const BoundarySamples& b = ctx.boundary;
   const NeighborLists& bn = ctx.boundaryNeighbors;

@@ -37,6 +37,11 @@ namespace consph {
 
 class BoundaryPressureTreatment {
  public:
+  // The treatment a solver is built with (the scene's simulation.boundaryPressure, "auto"
+  // resolved: PluginContext::boundaryPressure); it holds for the whole run.
+  explicit BoundaryPressureTreatment(BoundaryPressure mode = BoundaryPressure::Consistent)
+      : mode_(mode), classicalDiagonal_(mode != BoundaryPressure::Consistent) {}
+
   // Once per step, after the neighbour search and the densities: the per-particle boundary
   // gradient sums g_i, the Eq. (15) diagonal terms (mirroring, extrapolation) and, for
   // extrapolation only, the boundary -> fluid lists and MLS coefficients (positions are fixed

@@ -1,6 +1,7 @@
 #include "Plugins/Pressure/DFSPH.h"
 
 #include "Plugins/Pressure/SphPressureTerms.h"
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/ParallelFor.h"
 
@@ -10,48 +11,48 @@ namespace {
 const PluginRegistration<PressureSolver> registration{
     "DFSPH", "Divergence-free SPH: constant-density and divergence-free solves (Bender & Koschier 2017)",
     DFSPH::parameters(), [](const Params& p, const PluginContext& c) -> std::unique_ptr<PressureSolver> {
-      return std::make_unique<DFSPH>(p, *c.fluid);
+      return std::make_unique<DFSPH>(p, *c.fluid, c.boundaryPressure);
     }};
 
 // Particles with fewer neighbours sit at the free surface: their divergence is not enforced.
 constexpr Index kMinNeighborsForDivergence = 20;
 }  // namespace
 
-std::vector<ParamSpec> DFSPH::parameters() {
-  return {
-      {"maxError", ParamType::Real, 0.01, "tolerated average compression of the density solve, % of rho0", 1e-6, 100},
-      {"bodyCoupling", ParamType::String, "auto",
-       "how dynamic bodies enter the solve: iterated (their samples move, between iterations, as the impulses so far "
-       "would move them: Simulation/BodyResponse.h), explicit (they move only after the solve), or auto: iterated "
-       "with sample layers (Akinci2012), explicit with volume maps (measured: docs/rigid-bodies.md)",
-       -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"auto", "explicit", "iterated"}},
-      {"maxErrorDivergence", ParamType::Real, 0.1, "tolerated average divergence error, % of rho0 per step", 1e-6, 100},
-      {"minIterations", ParamType::Int, 2, "minimum iterations of the density solve", 0, 10000},
-      {"maxIterations", ParamType::Int, 100, "maximum iterations of the density solve", 1, 100000},
-      {"maxIterationsDivergence", ParamType::Int, 100, "maximum iterations of the divergence solve", 1, 100000},
-      {"enableDivergenceSolver", ParamType::Bool, true, "run the divergence-free solve"},
-      {"warmStart", ParamType::Bool, true, "start both solves from the previous step's pressures"},
-      overlapReliefParameter(),
-      densityRelaxationParameter(),
+const BoundParams<DFSPH::Settings>& DFSPH::bound() {
+  static const BoundParams<Settings> table{
+      bindPercent({"maxError", ParamType::Real, 0.01, "tolerated average compression of the density solve, % of rho0", 1e-6, 100},
+                  &Settings::maxError),
+      bindChoice<Settings>(
+          {"bodyCoupling", ParamType::String, "auto",
+           "how dynamic bodies enter the solve: iterated (their samples move, between iterations, as the impulses so far "
+           "would move them: Simulation/BodyResponse.h), explicit (they move only after the solve), or auto: iterated "
+           "with sample layers (Akinci2012), explicit with volume maps (measured: docs/rigid-bodies.md)",
+           -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"auto", "explicit", "iterated"}},
+          [](Settings& s, const std::string& v) {
+            s.bodyCoupling = v == "iterated" ? BodyCoupling::Iterated : v == "explicit" ? BodyCoupling::Explicit : BodyCoupling::Auto;
+          }),
+      bindPercent({"maxErrorDivergence", ParamType::Real, 0.1, "tolerated average divergence error, % of rho0 per step", 1e-6, 100},
+                  &Settings::maxErrorDivergence),
+      bind({"minIterations", ParamType::Int, 2, "minimum iterations of the density solve", 0, 10000}, &Settings::minIterations),
+      bind({"maxIterations", ParamType::Int, 100, "maximum iterations of the density solve", 1, 100000}, &Settings::maxIterations),
+      bind({"maxIterationsDivergence", ParamType::Int, 100, "maximum iterations of the divergence solve", 1, 100000},
+           &Settings::maxIterationsDivergence),
+      bind({"enableDivergenceSolver", ParamType::Bool, true, "run the divergence-free solve"}, &Settings::divergenceSolver),
+      bind({"warmStart", ParamType::Bool, true, "start both solves from the previous step's pressures"}, &Settings::warmStart),
+      bind(overlapReliefParameter(), &Settings::overlapReliefSpeed),
+      bindChoice<Settings>(densityRelaxationParameter(),
+                           [](Settings& s, const std::string& v) { s.relaxOverResolutionStep = v == "resolution"; }),
   };
+  return table;
 }
 
-DFSPH::DFSPH(const Params& p, FluidModel& fluid)
+std::vector<ParamSpec> DFSPH::parameters() { return bound().specs(); }
+
+DFSPH::DFSPH(const Params& p, FluidModel& fluid, BoundaryPressure treatment)
     : densityBeta_(fluid.fields().add<Real>("dfsphDensityBeta", FieldSorted, Real(0))),
-      divergenceBeta_(fluid.fields().add<Real>("dfsphDivergenceBeta", FieldSorted, Real(0))) {
-  settings_.maxError = p.real("maxError") / 100;
-  settings_.maxErrorDivergence = p.real("maxErrorDivergence") / 100;
-  settings_.minIterations = p.integer("minIterations");
-  settings_.maxIterations = p.integer("maxIterations");
-  settings_.maxIterationsDivergence = p.integer("maxIterationsDivergence");
-  settings_.divergenceSolver = p.boolean("enableDivergenceSolver");
-  settings_.warmStart = p.boolean("warmStart");
-  settings_.overlapReliefSpeed = p.real("overlapReliefSpeed");
-  settings_.relaxOverResolutionStep = p.string("densityRelaxation") == "resolution";
-  const std::string coupling = p.string("bodyCoupling");
-  settings_.bodyCoupling = coupling == "iterated" ? BodyCoupling::Iterated
-                           : coupling == "explicit" ? BodyCoupling::Explicit
-                                                    : BodyCoupling::Auto;
+      divergenceBeta_(fluid.fields().add<Real>("dfsphDivergenceBeta", FieldSorted, Real(0))),
+      treatment_(treatment) {
+  bound().assign(p, settings_);
   if (settings_.minIterations > settings_.maxIterations)
     throw InputError(p.pathOf("minIterations") + ": must not exceed maxIterations");
 }

@@ -14,9 +14,12 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class DFSPH final : public PressureSolver {
  public:
-  DFSPH(const Params& params, FluidModel& fluid);
+  DFSPH(const Params& params, FluidModel& fluid, BoundaryPressure treatment = BoundaryPressure::Consistent);
   void beforeNonPressureForces(StepContext& ctx) override;
   void solve(StepContext& ctx) override;
   void boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const override;
@@ -33,6 +36,8 @@ class DFSPH final : public PressureSolver {
     enum class BodyCoupling { Auto, Iterated, Explicit } bodyCoupling;  // Simulation/BodyResponse.h
   } settings_;
   using BodyCoupling = Settings::BodyCoupling;
+  // The parameters, each declared once with its place in settings_ (Simulation/ParamBinding.h).
+  static const BoundParams<Settings>& bound();
   // Whether this step's free bodies answer within the iterations (bodyCoupling, resolved).
   bool iteratesBodies(const StepContext& ctx) const;
 

@@ -1,6 +1,7 @@
 #include "Plugins/Pressure/IISPH.h"
 
 #include "Plugins/Pressure/SphPressureTerms.h"
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/ParallelFor.h"
 
@@ -9,31 +10,30 @@ namespace consph {
 namespace {
 const PluginRegistration<PressureSolver> registration{
     "IISPH", "Implicit incompressible SPH: relaxed Jacobi on the pressure Poisson equation (Ihmsen et al. 2014)",
-    IISPH::parameters(), [](const Params& p, const PluginContext&) -> std::unique_ptr<PressureSolver> {
-      return std::make_unique<IISPH>(p);
+    IISPH::parameters(), [](const Params& p, const PluginContext& c) -> std::unique_ptr<PressureSolver> {
+      return std::make_unique<IISPH>(p, c.boundaryPressure);
     }};
 }  // namespace
 
-std::vector<ParamSpec> IISPH::parameters() {
-  return {
-      {"maxError", ParamType::Real, 0.01, "tolerated average predicted compression, % of rho0", 1e-6, 100},
-      {"minIterations", ParamType::Int, 2, "minimum Jacobi iterations", 0, 10000},
-      {"maxIterations", ParamType::Int, 100, "maximum Jacobi iterations", 1, 100000},
-      {"omega", ParamType::Real, 0.5, "relaxation factor of the Jacobi iteration (Eq. 11)", 1e-3, 1},
-      {"warmStart", ParamType::Bool, true, "start from half of the previous step's pressure"},
-      overlapReliefParameter(),
-      densityRelaxationParameter(),
+const BoundParams<IISPH::Settings>& IISPH::bound() {
+  static const BoundParams<Settings> table{
+      bindPercent({"maxError", ParamType::Real, 0.01, "tolerated average predicted compression, % of rho0", 1e-6, 100},
+                  &Settings::maxError),
+      bind({"minIterations", ParamType::Int, 2, "minimum Jacobi iterations", 0, 10000}, &Settings::minIterations),
+      bind({"maxIterations", ParamType::Int, 100, "maximum Jacobi iterations", 1, 100000}, &Settings::maxIterations),
+      bind({"omega", ParamType::Real, 0.5, "relaxation factor of the Jacobi iteration (Eq. 11)", 1e-3, 1}, &Settings::omega),
+      bind({"warmStart", ParamType::Bool, true, "start from half of the previous step's pressure"}, &Settings::warmStart),
+      bind(overlapReliefParameter(), &Settings::overlapReliefSpeed),
+      bindChoice<Settings>(densityRelaxationParameter(),
+                           [](Settings& s, const std::string& v) { s.relaxOverResolutionStep = v == "resolution"; }),
   };
+  return table;
 }
 
-IISPH::IISPH(const Params& p) {
-  settings_.maxError = p.real("maxError") / 100;
-  settings_.minIterations = p.integer("minIterations");
-  settings_.maxIterations = p.integer("maxIterations");
-  settings_.omega = p.real("omega");
-  settings_.warmStart = p.boolean("warmStart");
-  settings_.overlapReliefSpeed = p.real("overlapReliefSpeed");
-  settings_.relaxOverResolutionStep = p.string("densityRelaxation") == "resolution";
+std::vector<ParamSpec> IISPH::parameters() { return bound().specs(); }
+
+IISPH::IISPH(const Params& p, BoundaryPressure treatment) : treatment_(treatment) {
+  bound().assign(p, settings_);
   if (settings_.minIterations > settings_.maxIterations)
     throw InputError(p.pathOf("minIterations") + ": must not exceed maxIterations");
 }

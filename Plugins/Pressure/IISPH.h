@@ -16,9 +16,12 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class IISPH final : public PressureSolver {
  public:
-  explicit IISPH(const Params& params);
+  explicit IISPH(const Params& params, BoundaryPressure treatment = BoundaryPressure::Consistent);
   void solve(StepContext& ctx) override;
   void boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const override;
   static std::vector<ParamSpec> parameters();
@@ -32,6 +35,8 @@ class IISPH final : public PressureSolver {
     Real overlapReliefSpeed;  // m/s, 0: off (maxDensityDrop)
     bool relaxOverResolutionStep;  // densityRelaxation "resolution" (driftTarget)
   } settings_;
+  // The parameters, each declared once with its place in settings_ (Simulation/ParamBinding.h).
+  static const BoundParams<Settings>& bound();
 
   // s_i (Eq. 5 with Eq. 6) and omega / A_ii (Eq. 12 / 15 / 32); the start pressure.
   void prepare(StepContext& ctx);

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "Plugins/Pressure/SphPressureTerms.h"
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/ParallelFor.h"
 
@@ -11,17 +12,22 @@ namespace consph {
 namespace {
 const PluginRegistration<PressureSolver> registration{
     "WCSPH", "Weakly compressible SPH with the Tait equation (Becker & Teschner 2007); needs small time steps",
-    WCSPH::parameters(), [](const Params& p, const PluginContext&) -> std::unique_ptr<PressureSolver> {
-      return std::make_unique<WCSPH>(p);
+    WCSPH::parameters(), [](const Params& p, const PluginContext& c) -> std::unique_ptr<PressureSolver> {
+      return std::make_unique<WCSPH>(p, c.boundaryPressure);
     }};
 }  // namespace
 
-std::vector<ParamSpec> WCSPH::parameters() {
-  return {{"stiffness", ParamType::Real, 50000.0, "Tait stiffness k, Pa", 1e-6, 1e12},
-          {"exponent", ParamType::Real, 7.0, "Tait exponent gamma", 1, 20}};
+const BoundParams<WCSPH::Settings>& WCSPH::bound() {
+  static const BoundParams<Settings> table{
+      bind({"stiffness", ParamType::Real, 50000.0, "Tait stiffness k, Pa", 1e-6, 1e12}, &Settings::stiffness),
+      bind({"exponent", ParamType::Real, 7.0, "Tait exponent gamma", 1, 20}, &Settings::exponent),
+  };
+  return table;
 }
 
-WCSPH::WCSPH(const Params& p) : stiffness_(p.real("stiffness")), exponent_(p.real("exponent")) {}
+std::vector<ParamSpec> WCSPH::parameters() { return bound().specs(); }
+
+WCSPH::WCSPH(const Params& p, BoundaryPressure treatment) : treatment_(treatment) { bound().assign(p, settings_); }
 
 void WCSPH::solve(StepContext& ctx) {
   stats_ = PressureSolverStats();
@@ -31,7 +37,7 @@ void WCSPH::solve(StepContext& ctx) {
   beta_.resize(f.size());
   const double errorSum = parallelSum<double>(n, [&](std::size_t i) {
     const Real ratio = f.densities[i] / rho0;
-    f.pressures[i] = std::max(Real(0), stiffness_ * (std::pow(ratio, exponent_) - Real(1)));
+    f.pressures[i] = std::max(Real(0), settings_.stiffness * (std::pow(ratio, settings_.exponent) - Real(1)));
     beta_[i] = f.pressures[i] / (f.densities[i] * f.densities[i]);
     return std::max(ratio - Real(1), Real(0));
   });
@@ -54,7 +60,7 @@ Real WCSPH::maxStableTimeStep(Real particleRadius, Real density0) const {
   // gamma k / rho0 (18.7 m/s at the defaults). Without it the default cap (the flow's CFL, 5 ms)
   // let a resting tank, a dam break and a floating box blow up at r = 0.025-0.005 (measured
   // 2026-12-02: 4.3 ms steps against a 1.07 ms bound); at 1 ms the tank rested for 2 s.
-  const Real soundSpeed = std::sqrt(exponent_ * stiffness_ / density0);
+  const Real soundSpeed = std::sqrt(settings_.exponent * settings_.stiffness / density0);
   return Real(0.4) * 2 * particleRadius / soundSpeed;
 }
 

@@ -9,16 +9,23 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class WCSPH final : public PressureSolver {
  public:
-  explicit WCSPH(const Params& params);
+  explicit WCSPH(const Params& params, BoundaryPressure treatment = BoundaryPressure::Consistent);
   void solve(StepContext& ctx) override;
   void boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const override;
   Real maxStableTimeStep(Real particleRadius, Real density0) const override;
   static std::vector<ParamSpec> parameters();
 
  private:
-  Real stiffness_, exponent_;
+  struct Settings {
+    Real stiffness, exponent;  // Tait: p = k ((rho / rho0)^gamma - 1)
+  } settings_;
+  // The parameters, each declared once with its place in settings_ (Simulation/ParamBinding.h).
+  static const BoundParams<Settings>& bound();
   BoundaryPressureTreatment treatment_;
   std::vector<Real> beta_;  // p_i / rho_i^2
 };

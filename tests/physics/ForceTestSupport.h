@@ -70,7 +70,7 @@ struct ParticleSet {
   }
 
   StepContext context(Real dt, std::size_t step = 0) {
-    return StepContext{fluid, boundary, fluidNeighbors, boundaryNeighbors, kernel, BoundaryPressure::Consistent,
+    return StepContext{fluid, boundary, fluidNeighbors, boundaryNeighbors, kernel,
                        Vector3r::Zero(), particleRadius, dt, dt, /*densityRelaxationTime*/ Real(0), 0, step, log};
   }
 

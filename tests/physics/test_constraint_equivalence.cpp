@@ -104,7 +104,7 @@ TEST(ConstraintEquivalence, ConstraintAndClassicFormsGiveTheSamePressuresAndVelo
   IISPH iisph(Params(json{{"maxError", 1e-6}, {"minIterations", kIterations}, {"maxIterations", kIterations},
                           {"omega", kOmega}, {"warmStart", false}, {"overlapReliefSpeed", 0}},
                      "pressureSolver", IISPH::parameters(), s.log));
-  StepContext ctx = s.context(BoundaryPressure::Consistent, kDt);
+  StepContext ctx = s.context(kDt);
   iisph.solve(ctx);
   ASSERT_EQ(iisph.stats().pressureIterations, kIterations);
 

@@ -29,8 +29,8 @@ struct StandaloneStep {
     }
   }
 
-  StepContext context(BoundaryPressure treatment, Real dt) {
-    return StepContext{fluid, boundary, fluidNeighbors, boundaryNeighbors, kernel, treatment, Vector3r(0, Real(-9.81), 0),
+  StepContext context(Real dt) {
+    return StepContext{fluid, boundary, fluidNeighbors, boundaryNeighbors, kernel, Vector3r(0, Real(-9.81), 0),
                        radius, dt, dt, /*densityRelaxationTime: within the step*/ Real(0), Real(0), 0, log};
   }
 

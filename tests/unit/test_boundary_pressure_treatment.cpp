@@ -45,8 +45,8 @@ TEST(BoundaryPressureTreatment, ExtrapolationReproducesALinearPressureField) {
   test::StandaloneStep s(kRadius, kRho0);
   // Layers at r and 3r: two layers inside the support radius 4r of the wall samples.
   makeWall(s, 4, kRadius);
-  BoundaryPressureTreatment t;
-  const StepContext ctx = s.context(BoundaryPressure::Extrapolation, Real(0.001));
+  BoundaryPressureTreatment t(BoundaryPressure::Extrapolation);
+  const StepContext ctx = s.context(Real(0.001));
   t.beginStep(ctx);
   ASSERT_TRUE(t.extrapolates());
   // Hydrostatic-like field p = 5000 - 20000 y + 3000 x: positive at the wall, so no clamping.
@@ -69,8 +69,8 @@ TEST(BoundaryPressureTreatment, ExtrapolationReproducesALinearPressureField) {
 TEST(BoundaryPressureTreatment, ExtrapolationClampsNegativePressuresAtZero) {
   test::StandaloneStep s(kRadius, kRho0);
   makeWall(s, 4, kRadius);
-  BoundaryPressureTreatment t;
-  const StepContext ctx = s.context(BoundaryPressure::Extrapolation, Real(0.001));
+  BoundaryPressureTreatment t(BoundaryPressure::Extrapolation);
+  const StepContext ctx = s.context(Real(0.001));
   t.beginStep(ctx);
   // Pressure rising with height: the linear fit is negative at the wall.
   t.extrapolate([&](Index j) { return Real(50000) * s.fluid.positions[j][1]; });
@@ -87,8 +87,8 @@ TEST(BoundaryPressureTreatment, ExtrapolationWithASingleFluidNeighbourFallsBackT
   s.fluid.masses[0] = kRho0 * 8 * kRadius * kRadius * kRadius;
   s.update();
   ASSERT_EQ(s.boundaryNeighbors.count(0), 1u);
-  BoundaryPressureTreatment t;
-  StepContext ctx = s.context(BoundaryPressure::Extrapolation, Real(0.001));
+  BoundaryPressureTreatment t(BoundaryPressure::Extrapolation);
+  StepContext ctx = s.context(Real(0.001));
   t.beginStep(ctx);
   t.extrapolate([](Index) { return Real(1234.5); });
   EXPECT_EQ(t.fallbackCount(), 1u);
@@ -106,8 +106,8 @@ TEST(BoundaryPressureTreatment, ExtrapolationOfAFlatFluidLayerFallsBackToTheWeig
   // fluid layer: no slope along the wall normal can be fitted (rank-2 moment matrix).
   test::StandaloneStep s(kRadius, kRho0);
   makeWall(s, 3, 2 * kRadius);
-  BoundaryPressureTreatment t;
-  const StepContext ctx = s.context(BoundaryPressure::Extrapolation, Real(0.001));
+  BoundaryPressureTreatment t(BoundaryPressure::Extrapolation);
+  const StepContext ctx = s.context(Real(0.001));
   t.beginStep(ctx);
   t.extrapolate([&](Index j) { return Real(100) + Real(1000) * s.fluid.positions[j][0]; });
   std::vector<bool> seen(s.boundary.size(), false);
@@ -131,10 +131,10 @@ TEST(BoundaryPressureTreatment, BoundaryAccelerationsFollowEqs16And33) {
   for (Index e = s.boundaryNeighbors.begin(i); e < s.boundaryNeighbors.end(i); ++e)
     g += s.boundary.masses[s.boundaryNeighbors.indices[e]] * s.boundaryNeighbors.gradW[e];
   ASSERT_GT(g.norm(), 0);
-  BoundaryPressureTreatment consistent, mirroring;
-  consistent.beginStep(s.context(BoundaryPressure::Consistent, Real(0.001)));
-  mirroring.beginStep(s.context(BoundaryPressure::Mirroring, Real(0.001)));
-  const StepContext ctx = s.context(BoundaryPressure::Consistent, Real(0.001));
+  BoundaryPressureTreatment consistent(BoundaryPressure::Consistent), mirroring(BoundaryPressure::Mirroring);
+  consistent.beginStep(s.context(Real(0.001)));
+  mirroring.beginStep(s.context(Real(0.001)));
+  const StepContext ctx = s.context(Real(0.001));
   const std::vector<Real> none;
   EXPECT_LT((consistent.acceleration(ctx, i, beta, p, none) + beta * g).norm(), 1e-12 * (beta * g).norm());
   const Vector3r mirrored = -(beta + p / (kRho0 * kRho0)) * g;
@@ -164,8 +164,8 @@ TEST(BoundaryPressureTreatment, ExtrapolationCapsTheSlopeOfAThinCloud) {
   }
   s.update();
   ASSERT_EQ(s.boundaryNeighbors.pairCount(), x.size());
-  BoundaryPressureTreatment t;
-  const StepContext ctx = s.context(BoundaryPressure::Extrapolation, Real(0.001));
+  BoundaryPressureTreatment t(BoundaryPressure::Extrapolation);
+  const StepContext ctx = s.context(Real(0.001));
   t.beginStep(ctx);
   // Pressures 1000 to 1010 Pa, rising with height (the fit alone: about 1000 - 68 x 10 Pa).
   auto pressure = [&](Index j) { return Real(1000) + Real(10) * (s.fluid.positions[j][1] - 3 * kRadius) / (Real(0.5) * kRadius); };
