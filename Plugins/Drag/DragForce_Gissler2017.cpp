@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/ParallelFor.h"
 
@@ -19,13 +20,20 @@ const PluginRegistration<NonPressureForce> registration{
 constexpr Real kFullNeighbors = Real(38) * 2 / 3;
 }  // namespace
 
-std::vector<ParamSpec> DragForce_Gissler2017::parameters() {
-  return {{"drag", ParamType::Real, 1.0, "scale c of the drag force, dimensionless (1: the published model)", 0, 1e6},
-          {"airVelocity", ParamType::Vector3, json::array({0, 0, 0}), "velocity of the surrounding air, m/s", -1e6, 1e6}};
+const BoundParams<DragForce_Gissler2017>& DragForce_Gissler2017::bound() {
+  static const BoundParams<DragForce_Gissler2017> table{
+      bind({"drag", ParamType::Real, 1.0, "scale c of the drag force, dimensionless (1: the published model)", 0, 1e6},
+           &DragForce_Gissler2017::drag_),
+      bind({"airVelocity", ParamType::Vector3, json::array({0, 0, 0}), "velocity of the surrounding air, m/s", -1e6, 1e6},
+           &DragForce_Gissler2017::airVelocity_),
+  };
+  return table;
 }
 
-DragForce_Gissler2017::DragForce_Gissler2017(const Params& p, const PluginContext& c)
-    : drag_(p.real("drag")), airVelocity_(p.vector3("airVelocity")) {
+std::vector<ParamSpec> DragForce_Gissler2017::parameters() { return bound().specs(); }
+
+DragForce_Gissler2017::DragForce_Gissler2017(const Params& p, const PluginContext& c) {
+  bound().assign(p, *this);
   const Real pi = std::numbers::pi_v<Real>;
   const Real rhoL = c.fluid->density0();
   diameter_ = 2 * c.particleRadius;

@@ -21,6 +21,9 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class DragForce_Gissler2017 final : public NonPressureForce {
  public:
   DragForce_Gissler2017(const Params& params, const PluginContext& context);
@@ -34,6 +37,8 @@ class DragForce_Gissler2017 final : public NonPressureForce {
   Real deformationCoefficient() const { return yCoefficient_; }  // y_max = min(1, this |v_rel|^2)
 
  private:
+  // The parameters, each declared once with the member it sets (Simulation/ParamBinding.h).
+  static const BoundParams<DragForce_Gissler2017>& bound();
   Real drag_;
   Vector3r airVelocity_;
   Real diameter_, L_, yCoefficient_;

@@ -1,5 +1,6 @@
 #include "Plugins/Drag/DragForce_Macklin2014.h"
 
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/ParallelFor.h"
 
@@ -13,12 +14,19 @@ const PluginRegistration<NonPressureForce> registration{
     }};
 }  // namespace
 
-std::vector<ParamSpec> DragForce_Macklin2014::parameters() {
-  return {{"drag", ParamType::Real, 0.01, "drag coefficient c, kg/s (force per m/s of relative velocity)", 0, 1e6},
-          {"airVelocity", ParamType::Vector3, json::array({0, 0, 0}), "velocity of the surrounding air, m/s", -1e6, 1e6}};
+const BoundParams<DragForce_Macklin2014>& DragForce_Macklin2014::bound() {
+  static const BoundParams<DragForce_Macklin2014> table{
+      bind({"drag", ParamType::Real, 0.01, "drag coefficient c, kg/s (force per m/s of relative velocity)", 0, 1e6},
+           &DragForce_Macklin2014::drag_),
+      bind({"airVelocity", ParamType::Vector3, json::array({0, 0, 0}), "velocity of the surrounding air, m/s", -1e6, 1e6},
+           &DragForce_Macklin2014::airVelocity_),
+  };
+  return table;
 }
 
-DragForce_Macklin2014::DragForce_Macklin2014(const Params& p) : drag_(p.real("drag")), airVelocity_(p.vector3("airVelocity")) {}
+std::vector<ParamSpec> DragForce_Macklin2014::parameters() { return bound().specs(); }
+
+DragForce_Macklin2014::DragForce_Macklin2014(const Params& p) { bound().assign(p, *this); }
 
 void DragForce_Macklin2014::addAccelerations(StepContext& ctx) {
   FluidModel& f = ctx.fluid;

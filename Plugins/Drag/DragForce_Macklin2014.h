@@ -11,6 +11,9 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class DragForce_Macklin2014 final : public NonPressureForce {
  public:
   explicit DragForce_Macklin2014(const Params& params);
@@ -18,6 +21,8 @@ class DragForce_Macklin2014 final : public NonPressureForce {
   static std::vector<ParamSpec> parameters();
 
  private:
+  // The parameters, each declared once with the member it sets (Simulation/ParamBinding.h).
+  static const BoundParams<DragForce_Macklin2014>& bound();
   Real drag_;
   Vector3r airVelocity_;
 };

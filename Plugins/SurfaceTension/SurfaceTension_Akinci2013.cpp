@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/ParallelFor.h"
 
@@ -17,10 +18,19 @@ const PluginRegistration<NonPressureForce> registration{
     }};
 }  // namespace
 
-std::vector<ParamSpec> SurfaceTension_Akinci2013::parameters() {
-  return {{"surfaceTension", ParamType::Real, 0.05, "surface tension coefficient gamma (see docs/forces.md for its units)", 0, 1e6},
-          {"boundaryAdhesion", ParamType::Real, 0.0, "adhesion coefficient beta towards boundaries (units as gamma's cohesion term)", 0, 1e6}};
+const BoundParams<SurfaceTension_Akinci2013>& SurfaceTension_Akinci2013::bound() {
+  static const BoundParams<SurfaceTension_Akinci2013> table{
+      bind({"surfaceTension", ParamType::Real, 0.05, "surface tension coefficient gamma (see docs/forces.md for its units)", 0,
+            1e6},
+           &SurfaceTension_Akinci2013::gamma_),
+      bind({"boundaryAdhesion", ParamType::Real, 0.0,
+            "adhesion coefficient beta towards boundaries (units as gamma's cohesion term)", 0, 1e6},
+           &SurfaceTension_Akinci2013::beta_),
+  };
+  return table;
 }
+
+std::vector<ParamSpec> SurfaceTension_Akinci2013::parameters() { return bound().specs(); }
 
 SurfaceTension_Akinci2013::Kernels::Kernels(Real h_)
     : h(h_),
@@ -42,9 +52,9 @@ Real SurfaceTension_Akinci2013::Kernels::adhesion(Real r) const {
 }
 
 SurfaceTension_Akinci2013::SurfaceTension_Akinci2013(const Params& p, FluidModel& fluid)
-    : gamma_(p.real("surfaceTension")),
-      beta_(p.real("boundaryAdhesion")),
-      normals_(fluid.fields().add<Vector3r>("normal", FieldSorted | FieldExported, Vector3r::Zero())) {}
+    : normals_(fluid.fields().add<Vector3r>("normal", FieldSorted | FieldExported, Vector3r::Zero())) {
+  bound().assign(p, *this);
+}
 
 void SurfaceTension_Akinci2013::addAccelerations(StepContext& ctx) {
   FluidModel& f = ctx.fluid;

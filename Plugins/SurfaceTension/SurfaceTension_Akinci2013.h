@@ -19,6 +19,9 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class SurfaceTension_Akinci2013 final : public NonPressureForce {
  public:
   SurfaceTension_Akinci2013(const Params& params, FluidModel& fluid);
@@ -34,6 +37,8 @@ class SurfaceTension_Akinci2013 final : public NonPressureForce {
   };
 
  private:
+  // The parameters, each declared once with the member it sets (Simulation/ParamBinding.h).
+  static const BoundParams<SurfaceTension_Akinci2013>& bound();
   Real gamma_, beta_;
   std::vector<Vector3r>& normals_;  // n_i (dimensionless), sorted + exported field
 };

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "Plugins/Viscosity/ViscosityLaplacian.h"
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/ParallelFor.h"
 
@@ -17,13 +18,19 @@ const PluginRegistration<NonPressureForce> registration{
     }};
 }  // namespace
 
-std::vector<ParamSpec> Viscosity_Standard::parameters() {
-  return {{"viscosity", ParamType::Real, 0.01, "kinematic viscosity nu of the fluid, m^2/s", 0, 1e6},
-          {"boundaryViscosity", ParamType::Real, 0.0, "kinematic viscosity towards boundaries, m^2/s (0: free slip)", 0, 1e6}};
+const BoundParams<Viscosity_Standard>& Viscosity_Standard::bound() {
+  static const BoundParams<Viscosity_Standard> table{
+      bind({"viscosity", ParamType::Real, 0.01, "kinematic viscosity nu of the fluid, m^2/s", 0, 1e6},
+           &Viscosity_Standard::viscosity_),
+      bind({"boundaryViscosity", ParamType::Real, 0.0, "kinematic viscosity towards boundaries, m^2/s (0: free slip)", 0, 1e6},
+           &Viscosity_Standard::boundaryViscosity_),
+  };
+  return table;
 }
 
-Viscosity_Standard::Viscosity_Standard(const Params& p)
-    : viscosity_(p.real("viscosity")), boundaryViscosity_(p.real("boundaryViscosity")) {}
+std::vector<ParamSpec> Viscosity_Standard::parameters() { return bound().specs(); }
+
+Viscosity_Standard::Viscosity_Standard(const Params& p) { bound().assign(p, *this); }
 
 Real Viscosity_Standard::maxStableTimeStep(const CubicSplineKernel& kernel) const {
   // Morris, Fox, Zhu 1997, Section 2.3: dt <= 0.125 h^2 / nu for the explicit viscous term, h

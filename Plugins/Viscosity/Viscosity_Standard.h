@@ -13,6 +13,9 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class Viscosity_Standard final : public NonPressureForce {
  public:
   explicit Viscosity_Standard(const Params& params);
@@ -21,6 +24,8 @@ class Viscosity_Standard final : public NonPressureForce {
   static std::vector<ParamSpec> parameters();
 
  private:
+  // The parameters, each declared once with the member it sets (Simulation/ParamBinding.h).
+  static const BoundParams<Viscosity_Standard>& bound();
   Real viscosity_, boundaryViscosity_;
 };
 

@@ -3,6 +3,7 @@
 #include <Eigen/LU>  // 3x3 inverse
 
 #include "Plugins/Viscosity/ViscosityLaplacian.h"
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/ParallelFor.h"
 
@@ -16,19 +17,26 @@ const PluginRegistration<NonPressureForce> registration{
     }};
 }  // namespace
 
-std::vector<ParamSpec> Viscosity_Weiler2018::parameters() {
-  return {{"viscosity", ParamType::Real, 0.01, "kinematic viscosity nu of the fluid, m^2/s", 0, 1e6},
-          {"boundaryViscosity", ParamType::Real, 0.0, "kinematic viscosity towards boundaries, m^2/s (0: free slip)", 0, 1e6},
-          {"maxError", ParamType::Real, 0.01, "CG stops at residual below this fraction of the viscous change |b - A v| (dimensionless)", 1e-12, 1},
-          {"maxIterations", ParamType::Int, 100, "CG iteration cap per step", 1, 100000}};
+const BoundParams<Viscosity_Weiler2018>& Viscosity_Weiler2018::bound() {
+  static const BoundParams<Viscosity_Weiler2018> table{
+      bind({"viscosity", ParamType::Real, 0.01, "kinematic viscosity nu of the fluid, m^2/s", 0, 1e6},
+           &Viscosity_Weiler2018::viscosity_),
+      bind({"boundaryViscosity", ParamType::Real, 0.0, "kinematic viscosity towards boundaries, m^2/s (0: free slip)", 0, 1e6},
+           &Viscosity_Weiler2018::boundaryViscosity_),
+      bind({"maxError", ParamType::Real, 0.01,
+            "CG stops at residual below this fraction of the viscous change |b - A v| (dimensionless)", 1e-12, 1},
+           &Viscosity_Weiler2018::maxError_),
+      bind({"maxIterations", ParamType::Int, 100, "CG iteration cap per step", 1, 100000}, &Viscosity_Weiler2018::maxIterations_),
+  };
+  return table;
 }
 
+std::vector<ParamSpec> Viscosity_Weiler2018::parameters() { return bound().specs(); }
+
 Viscosity_Weiler2018::Viscosity_Weiler2018(const Params& p, FluidModel& fluid)
-    : viscosity_(p.real("viscosity")),
-      boundaryViscosity_(p.real("boundaryViscosity")),
-      maxError_(p.real("maxError")),
-      maxIterations_(p.integer("maxIterations")),
-      velocityChange_(fluid.fields().add<Vector3r>("viscosityVelocityChange", FieldSorted, Vector3r::Zero())) {}
+    : velocityChange_(fluid.fields().add<Vector3r>("viscosityVelocityChange", FieldSorted, Vector3r::Zero())) {
+  bound().assign(p, *this);
+}
 
 void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
   using namespace viscosity;

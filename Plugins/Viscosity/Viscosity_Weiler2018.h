@@ -22,6 +22,9 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class Viscosity_Weiler2018 final : public NonPressureForce {
  public:
   Viscosity_Weiler2018(const Params& params, FluidModel& fluid);
@@ -30,6 +33,8 @@ class Viscosity_Weiler2018 final : public NonPressureForce {
   const ConjugateGradientResult& lastSolve() const { return last_; }
 
  private:
+  // The parameters, each declared once with the member it sets (Simulation/ParamBinding.h).
+  static const BoundParams<Viscosity_Weiler2018>& bound();
   Real viscosity_, boundaryViscosity_, maxError_;
   int maxIterations_;
   std::vector<Vector3r>& velocityChange_;  // v' - v of the last solve (warm start), sorted field

@@ -1,5 +1,6 @@
 #include "Plugins/Viscosity/Viscosity_XSPH.h"
 
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/ParallelFor.h"
 
@@ -13,12 +14,19 @@ const PluginRegistration<NonPressureForce> registration{
     }};
 }  // namespace
 
-std::vector<ParamSpec> Viscosity_XSPH::parameters() {
-  return {{"viscosity", ParamType::Real, 0.01, "XSPH factor eps, dimensionless (fraction smoothed per step)", 0, 1},
-          {"boundaryViscosity", ParamType::Real, 0.0, "XSPH factor towards boundaries, dimensionless", 0, 1}};
+const BoundParams<Viscosity_XSPH>& Viscosity_XSPH::bound() {
+  static const BoundParams<Viscosity_XSPH> table{
+      bind({"viscosity", ParamType::Real, 0.01, "XSPH factor eps, dimensionless (fraction smoothed per step)", 0, 1},
+           &Viscosity_XSPH::factor_),
+      bind({"boundaryViscosity", ParamType::Real, 0.0, "XSPH factor towards boundaries, dimensionless", 0, 1},
+           &Viscosity_XSPH::boundaryFactor_),
+  };
+  return table;
 }
 
-Viscosity_XSPH::Viscosity_XSPH(const Params& p) : factor_(p.real("viscosity")), boundaryFactor_(p.real("boundaryViscosity")) {}
+std::vector<ParamSpec> Viscosity_XSPH::parameters() { return bound().specs(); }
+
+Viscosity_XSPH::Viscosity_XSPH(const Params& p) { bound().assign(p, *this); }
 
 void Viscosity_XSPH::addAccelerations(StepContext& ctx) {
   FluidModel& f = ctx.fluid;

@@ -16,6 +16,9 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class Viscosity_XSPH final : public NonPressureForce {
  public:
   explicit Viscosity_XSPH(const Params& params);
@@ -23,6 +26,8 @@ class Viscosity_XSPH final : public NonPressureForce {
   static std::vector<ParamSpec> parameters();
 
  private:
+  // The parameters, each declared once with the member it sets (Simulation/ParamBinding.h).
+  static const BoundParams<Viscosity_XSPH>& bound();
   Real factor_, boundaryFactor_;
 };
 

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>  // cross
 
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/ParallelFor.h"
 
@@ -16,17 +17,25 @@ const PluginRegistration<NonPressureForce> registration{
     }};
 }  // namespace
 
-std::vector<ParamSpec> MicropolarModel_Bender2019::parameters() {
-  return {{"vorticity", ParamType::Real, 0.01, "transfer coefficient nu_t between velocity and angular velocity, m^2/s", 0, 1e3},
-          {"inertiaInverse", ParamType::Real, 0.5, "inverse micro-inertia Theta^-1, 1/m^2", 0, 1e6},
-          {"viscosityOmega", ParamType::Real, 0.1, "angular viscosity zeta, m^2 (Theta^-1 zeta: dimensionless XSPH factor on omega)", 0, 1e3}};
+const BoundParams<MicropolarModel_Bender2019>& MicropolarModel_Bender2019::bound() {
+  static const BoundParams<MicropolarModel_Bender2019> table{
+      bind({"vorticity", ParamType::Real, 0.01, "transfer coefficient nu_t between velocity and angular velocity, m^2/s", 0, 1e3},
+           &MicropolarModel_Bender2019::vorticity_),
+      bind({"inertiaInverse", ParamType::Real, 0.5, "inverse micro-inertia Theta^-1, 1/m^2", 0, 1e6},
+           &MicropolarModel_Bender2019::inertiaInverse_),
+      bind({"viscosityOmega", ParamType::Real, 0.1,
+            "angular viscosity zeta, m^2 (Theta^-1 zeta: dimensionless XSPH factor on omega)", 0, 1e3},
+           &MicropolarModel_Bender2019::viscosityOmega_),
+  };
+  return table;
 }
 
+std::vector<ParamSpec> MicropolarModel_Bender2019::parameters() { return bound().specs(); }
+
 MicropolarModel_Bender2019::MicropolarModel_Bender2019(const Params& p, FluidModel& fluid)
-    : vorticity_(p.real("vorticity")),
-      inertiaInverse_(p.real("inertiaInverse")),
-      viscosityOmega_(p.real("viscosityOmega")),
-      omega_(fluid.fields().add<Vector3r>("angularVelocity", FieldSorted | FieldExported, Vector3r::Zero())) {}
+    : omega_(fluid.fields().add<Vector3r>("angularVelocity", FieldSorted | FieldExported, Vector3r::Zero())) {
+  bound().assign(p, *this);
+}
 
 void MicropolarModel_Bender2019::addAccelerations(StepContext& ctx) {
   FluidModel& f = ctx.fluid;

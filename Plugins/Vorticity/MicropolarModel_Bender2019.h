@@ -22,6 +22,9 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class MicropolarModel_Bender2019 final : public NonPressureForce {
  public:
   MicropolarModel_Bender2019(const Params& params, FluidModel& fluid);
@@ -29,6 +32,8 @@ class MicropolarModel_Bender2019 final : public NonPressureForce {
   static std::vector<ParamSpec> parameters();
 
  private:
+  // The parameters, each declared once with the member it sets (Simulation/ParamBinding.h).
+  static const BoundParams<MicropolarModel_Bender2019>& bound();
   Real vorticity_, inertiaInverse_, viscosityOmega_;
   std::vector<Vector3r>& omega_;              // angular velocity (1/s), sorted + exported field
   std::vector<Vector3r> angularAcceleration_;  // d omega / dt of this step (scratch)

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>  // cross
 
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/ParallelFor.h"
 
@@ -19,11 +20,17 @@ const PluginRegistration<NonPressureForce> registration{
 constexpr Real kUniformVorticity = Real(1e-6);
 }  // namespace
 
-std::vector<ParamSpec> VorticityConfinement_Macklin2013::parameters() {
-  return {{"vorticity", ParamType::Real, 0.01, "confinement strength eps, m/s", 0, 1e3}};
+const BoundParams<VorticityConfinement_Macklin2013>& VorticityConfinement_Macklin2013::bound() {
+  static const BoundParams<VorticityConfinement_Macklin2013> table{
+      bind({"vorticity", ParamType::Real, 0.01, "confinement strength eps, m/s", 0, 1e3},
+           &VorticityConfinement_Macklin2013::epsilon_),
+  };
+  return table;
 }
 
-VorticityConfinement_Macklin2013::VorticityConfinement_Macklin2013(const Params& p) : epsilon_(p.real("vorticity")) {}
+std::vector<ParamSpec> VorticityConfinement_Macklin2013::parameters() { return bound().specs(); }
+
+VorticityConfinement_Macklin2013::VorticityConfinement_Macklin2013(const Params& p) { bound().assign(p, *this); }
 
 void VorticityConfinement_Macklin2013::addAccelerations(StepContext& ctx) {
   FluidModel& f = ctx.fluid;

@@ -18,6 +18,9 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class VorticityConfinement_Macklin2013 final : public NonPressureForce {
  public:
   explicit VorticityConfinement_Macklin2013(const Params& params);
@@ -25,6 +28,8 @@ class VorticityConfinement_Macklin2013 final : public NonPressureForce {
   static std::vector<ParamSpec> parameters();
 
  private:
+  // The parameters, each declared once with the member it sets (Simulation/ParamBinding.h).
+  static const BoundParams<VorticityConfinement_Macklin2013>& bound();
   Real epsilon_;
   std::vector<Vector3r> omega_;  // curl v of this step (scratch)
   std::vector<Real> omegaNorm_;  // |omega| (scratch)
