@@ -37,6 +37,7 @@ struct RigidBody {
   std::vector<Index> contactSamples;
   std::vector<Vector3r> localContactSamples;
   TriangleMesh localMesh;              // its surface in the body frame, relative to x (output)
+  Real reach = 0;                      // its farthest surface point from x, m (the guard's |w| R)
 
   Matrix3r rotation() const { return q.toRotationMatrix(); }
   Matrix3r invInertiaWorld() const {

@@ -56,7 +56,10 @@ RigidBodySystem::RigidBodySystem(const std::vector<BoundaryObject>& objects, con
     b.v = obj.velocity;
     b.w = obj.angularVelocity;
     b.localMesh = obj.mesh;
-    for (auto& v : b.localMesh.vertices) v -= b.x;
+    for (auto& v : b.localMesh.vertices) {
+      v -= b.x;
+      b.reach = std::max(b.reach, v.norm());
+    }
     bodyOfObject_[o] = Index(bodies_.size());
     bodies_.push_back(std::move(b));
     if (log && obj.motion == BodyMotion::Dynamic) {
@@ -338,7 +341,7 @@ MovingBodyState RigidBodySystem::state(std::size_t body) const {
   s.motion = b.motion;
   s.object = b.object;
   s.mass = b.mass;
-  for (const Vector3r& v : b.localMesh.vertices) s.reach = std::max(s.reach, v.norm());
+  s.reach = b.reach;
   s.x = b.x;
   s.x0 = b.x0;
   s.q = b.q;
