@@ -86,6 +86,11 @@ void Simulation::saveCheckpoint(const std::string& path) const {
   out.put("emittersEndTime", emittersEndTime_);
   out.put("nextFrame", nextFrame_);
   out.put("nextProbeRow", nextProbeRow_);
+  if (probes_) {  // the loads since the last probes.csv row (Probes::windowValues)
+    out.putVector("probeWindow/impulses", probes_->window().impulses);
+    out.put("probeWindow/time", probes_->window().time);
+    out.put("probeWindow/steps", probes_->window().steps);
+  }
   out.put("nextCheckpoint", nextCheckpoint_);
   out.put("checkpointsWritten", checkpointsWritten_);
   // Particle fields: every one, in registration order, with its type; plugins keep what must
@@ -171,6 +176,10 @@ void Simulation::restoreCheckpoint(const std::string& path) {
   nextId_ = in.get<Index>("nextId");
   emittersEndTime_ = in.get<Real>("emittersEndTime");
   nextProbeRow_ = in.get<std::size_t>("nextProbeRow");
+  // Absent from checkpoints written before probe rows were window means (their rows were not).
+  if (probes_ && in.has("probeWindow/time"))
+    probes_->setWindow({in.getVector<double>("probeWindow/impulses"), in.get<double>("probeWindow/time"),
+                        in.get<std::size_t>("probeWindow/steps")});
   nextCheckpoint_ = in.get<std::size_t>("nextCheckpoint");
   checkpointsWritten_ = in.get<std::size_t>("checkpointsWritten");
   resumed_.pending = true;

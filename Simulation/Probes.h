@@ -79,6 +79,20 @@ class Probes {
   const std::vector<std::string>& columns() const { return columns_; }
   const std::vector<double>& values() const { return values_; }
   json latest() const;  // {column: value}
+  // A probes.csv row: pressure and force columns as their means over the window since the last
+  // row (the impulse over the window divided by its length: what a sensor sampling at
+  // output.probeFps and integrating between samples reads, free of the step-to-step swing of
+  // the solver's reaction), levels as they are now; a window of one step gives values().
+  std::vector<double> windowValues() const;
+  void startWindow();
+  // The window's state (checkpoints: a restarted run writes the same rows).
+  struct Window {
+    std::vector<double> impulses;  // per column: sum of value x dt (loads only)
+    double time = 0;               // s
+    std::size_t steps = 0;
+  };
+  const Window& window() const { return window_; }
+  void setWindow(Window w) { window_ = std::move(w); }
 
  private:
   struct PressureGeometry {
@@ -98,6 +112,7 @@ class Probes {
   Vector3r up_ = Vector3r::UnitY();
   Real supportRadius_ = 0;
   bool readsLoads_ = false;
+  Window window_;
 };
 
 }  // namespace consph

@@ -692,10 +692,11 @@ void Simulation::writeProbeRowIfDue() {
   char number[32];
   std::snprintf(number, sizeof(number), "%.9g", double(time_));
   std::string row = number;
-  for (double v : probes_->values()) {
+  for (double v : probes_->windowValues()) {
     std::snprintf(number, sizeof(number), ",%.9g", v);
     row += number;
   }
+  probes_->startWindow();
   probeFile_->append(row);
 }
 

@@ -306,6 +306,65 @@ TEST(Probes, ProbeFpsThinsTheRows) {
   std::filesystem::remove_all(dir);
 }
 
+// Rows at output.probeFps carry each load's mean over the interval since the previous row (its
+// impulse over the window / the window's length), levels as they are at the row: checked against
+// the every-step rows of the same run, weighted by their steps.
+TEST(Probes, ProbeFpsRowsAreTheLoadsMeansOverTheirInterval) {
+  auto rowsOf = [](Real probeFps, const std::string& name) {
+    const std::string dir = (std::filesystem::temp_directory_path() / name).string();
+    std::filesystem::remove_all(dir);
+    json scene = tankScene("auto");
+    scene["simulation"]["maxTimeStep"] = 0.001;  // about ten steps per row, where the per-step loads swing
+    SceneDescription desc = parseScene(scene, ".", {});
+    desc.output.directory = dir;
+    desc.output.probeFps = probeFps;
+    Simulation sim(std::move(desc), builtinPlugins(), [](LogLevel, const std::string&) {});
+    sim.run(0.1);
+    std::ifstream in(dir + "/probes.csv");
+    std::string line;
+    std::getline(in, line);  // header
+    std::vector<std::vector<double>> rows;
+    while (std::getline(in, line)) {
+      std::vector<double> row;
+      std::stringstream s(line);
+      std::string cell;
+      while (std::getline(s, cell, ',')) row.push_back(std::stod(cell));
+      rows.push_back(row);
+    }
+    std::filesystem::remove_all(dir);
+    return rows;
+  };
+  const auto steps = rowsOf(0, "consph_probes_window_steps"), sampled = rowsOf(100, "consph_probes_window_100");
+  ASSERT_GT(steps.size(), 3 * sampled.size());
+  ASSERT_GE(sampled.size(), 9u);
+  const std::size_t levelColumn = 3;  // time, floor, side, level, tank.fx ...
+  std::size_t k = 0;
+  double previousTime = 0, largestSwing = 0;
+  for (const std::vector<double>& row : sampled) {
+    std::vector<double> sum(row.size(), 0.0);
+    double window = 0;
+    const std::vector<double>* last = nullptr;
+    for (; k < steps.size() && steps[k][0] <= row[0] + 1e-12; ++k) {
+      const double dt = steps[k][0] - (k ? steps[k - 1][0] : 0.0);
+      for (std::size_t c = 1; c < row.size(); ++c) sum[c] += steps[k][c] * dt;
+      window += dt;
+      last = &steps[k];
+    }
+    ASSERT_NE(last, nullptr);
+    EXPECT_NEAR((*last)[0], row[0], 1e-12) << "rows fall on steps";
+    EXPECT_EQ((*last)[levelColumn], row[levelColumn]) << "a level is read at the row";
+    for (std::size_t c = 1; c < row.size(); ++c) {
+      if (c == levelColumn) continue;
+      const double mean = sum[c] / window, scale = std::abs(mean) + 1e-6 * std::abs(sum[1] / window) + 1e-9;
+      EXPECT_NEAR(row[c], mean, 1e-5 * scale) << "column " << c << " at t = " << row[0] << " (window " << window << " s)";
+      if (row[0] > previousTime + 1e-12 && c == 1) largestSwing = std::max(largestSwing, std::abs((*last)[c] - mean) / std::abs(mean));
+    }
+    previousTime = row[0];
+  }
+  // Not a vacuous comparison: the last step's floor pressure differs from its window's mean.
+  EXPECT_GT(largestSwing, 1e-3);
+}
+
 TEST(Probes, BadProbesAreInputErrorsNamingThePath) {
   auto expectError = [](json probes, const std::string& fragment) {
     json scene = tankScene("consistent");
