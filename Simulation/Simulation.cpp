@@ -651,7 +651,12 @@ void Simulation::setOutputDirectory(const std::string& dir) {
     // first run wrote after it (before it was killed) are dropped, since this run writes them anew.
     const std::string kept = continuing ? probeRowsUpTo(path, header, time_) : header;
     probeFile_ = std::make_unique<LineFile>(path, kept);
-    nextProbeRow_ = scene_.output.probeFps > 0 ? std::size_t(std::ceil(time_ * scene_.output.probeFps - Real(1e-6))) : 0;
+    // A restarted run's next row and the loads since its last one are the checkpoint's (the row
+    // due at the checkpoint's time was written before it); a new file starts at the next row due.
+    if (!continuing) {
+      nextProbeRow_ = scene_.output.probeFps > 0 ? std::size_t(std::ceil(time_ * scene_.output.probeFps - Real(1e-6))) : 0;
+      probes_->startWindow();
+    }
   }
 }
 

@@ -150,10 +150,14 @@ TEST(Checkpoint, IntervalWritesRunFilesAndARestartContinuesTheSeries) {
 // probes.csv of a restarted run: the rows up to the checkpoint, then this run's, in time order
 // and without a gap or a repeat; rows the first run wrote after its checkpoint are dropped.
 TEST(Checkpoint, ARestartKeepsTheProbeRowsUpToItsCheckpoint) {
+  // Rows of every step, and rows at a rate whose interval a checkpoint cuts (the load means over
+  // the interval since the last row must carry over the restart).
+  for (double probeFps : {0.0, 110.0}) {
+  SCOPED_TRACE("probeFps " + std::to_string(probeFps));
   OneThread oneThread;
   const std::string dir = scratchDir("probes");
   json scene = checkpointScene();
-  scene["output"] = {{"directory", dir + "/out"}, {"fps", 100}, {"checkpointInterval", 0.02}};
+  scene["output"] = {{"directory", dir + "/out"}, {"fps", 100}, {"checkpointInterval", 0.02}, {"probeFps", probeFps}};
   scene["probes"] = json::parse(R"([{"name": "floor", "kind": "pressure", "position": [0.2, 0, 0.2]},
                                     {"name": "crate", "kind": "force", "boundary": "crate"}])");
   auto readRows = [&]() {
@@ -181,9 +185,10 @@ TEST(Checkpoint, ARestartKeepsTheProbeRowsUpToItsCheckpoint) {
   EXPECT_EQ(rows, reference);
   ASSERT_GT(rows.size(), 2u);
   EXPECT_EQ(rows[0].rfind("time,floor,crate.fx", 0), 0u) << rows[0];
-  std::printf("[ probes ] %zu rows straight, %zu when killed at t = 0.05, restarted at t = %.4f: %zu rows\n", reference.size(),
-              rowsWhenKilled, double(checkpointTime), rows.size());
+  std::printf("[ probes ] probeFps %g: %zu rows straight, %zu when killed at t = 0.05, restarted at t = %.4f: %zu rows\n",
+              probeFps, reference.size(), rowsWhenKilled, double(checkpointTime), rows.size());
   std::filesystem::remove_all(dir);
+  }
 }
 
 TEST(Checkpoint, RefusesAnotherSceneNamingTheDifference) {
