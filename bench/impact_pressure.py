@@ -50,10 +50,11 @@ ARRIVAL_IMPULSE, IMPACT_WINDOW, SENSOR_AVERAGE, SHORT_AVERAGE = 0.002, 0.1, 0.00
 TREATMENTS = ["consistent", "mirroring", "extrapolation"]
 
 
-def scene(treatment, r, max_dt):
-    # densityRelaxation "resolution": the time-step study converges only with it (docs/boundary-pressure.md).
+def scene(treatment, r, max_dt, relaxation="resolution"):
+    # densityRelaxation "resolution" by default: the time-step study converges only with it
+    # (docs/boundary-pressure.md); --density-relaxation step runs the solver's default.
     sim = {"particleRadius": r, "stopAt": END, "boundaryPressure": treatment,
-           "pressureSolver": {"type": "DFSPH", "densityRelaxation": "resolution"}}
+           "pressureSolver": {"type": "DFSPH", "densityRelaxation": relaxation}}
     if max_dt:
         sim["maxTimeStep"] = max_dt
     return {
@@ -80,11 +81,11 @@ def moving_average(t, p, width):
     return (np.interp(hi, edges, cumulative) - np.interp(lo, edges, cumulative)) / np.maximum(hi - lo, 1e-12)
 
 
-def measure(treatment, r, max_dt, threads):
+def measure(treatment, r, max_dt, threads, relaxation="resolution"):
     import numpy as np
     import consph
     consph.set_num_threads(threads)
-    sim = consph.Simulation.from_dict(scene(treatment, r, max_dt))
+    sim = consph.Simulation.from_dict(scene(treatment, r, max_dt, relaxation))
     t0 = time.time()
     ts, low, high = [], [], []
     while sim.time < END - 1e-9:
@@ -150,11 +151,13 @@ def main():
     ap.add_argument("--halvings", type=int, default=1, help="how often the middle resolution's step is halved")
     ap.add_argument("--radii", help="comma-separated particle radii (default 0.01,0.005,0.0025)")
     ap.add_argument("--build", default="build", help="build folder whose python/ module to run")
+    ap.add_argument("--density-relaxation", default="resolution", choices=["resolution", "step"],
+                    help="DFSPH's densityRelaxation (step: the scene default)")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
         treatment, r, max_dt = args.child.split(",")
-        print(json.dumps(measure(treatment, float(r), float(max_dt), args.threads)))
+        print(json.dumps(measure(treatment, float(r), float(max_dt), args.threads, args.density_relaxation)))
         return
     radii = [float(x) for x in args.radii.split(",")] if args.radii else [0.01, 0.005] if args.quick else [0.01, 0.005, 0.0025]
     treatments = args.treatments.split(",")
@@ -169,7 +172,8 @@ def main():
         if isinstance(max_dt, str):
             base = next(x for x in results if x["key"] == (t, r, 0.0))
             max_dt = round(0.5 ** int(max_dt[4:]) * base.get("mean_dt", 0.001), 7)
-        cmd = [sys.executable, __file__, "--child", f"{t},{r},{max_dt}", "--threads", str(args.threads)]
+        cmd = [sys.executable, __file__, "--child", f"{t},{r},{max_dt}", "--threads", str(args.threads),
+               "--density-relaxation", args.density_relaxation]
         res = subprocess.run(cmd, capture_output=True, text=True, env=env)
         out = json.loads(res.stdout.strip().splitlines()[-1]) if res.returncode == 0 else {
             "error": (res.stderr.strip().splitlines() or ["?"])[-1], "r": r, "max_dt": max_dt}
