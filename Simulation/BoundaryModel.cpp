@@ -6,19 +6,16 @@ namespace consph {
 
 void BoundaryModel::follow(const std::vector<PoseUpdate>& poses) {
   for (const PoseUpdate& u : poses) {
-    if (u.object >= objectKnown_.size()) {
-      objectKnown_.resize(u.object + 1, 0);
-      objectSamples_.resize(u.object + 1);
-    }
+    if (u.object >= objectSamples_.size()) objectSamples_.resize(u.object + 1);
     ObjectSamples& own = objectSamples_[u.object];
-    if (!objectKnown_[u.object]) {
+    if (!own.known) {
       // First pose (start-up): the samples are where the scene put them.
       for (std::size_t k = 0; k < samples_.size(); ++k)
         if (samples_.bodies[k] == u.object) {
           own.samples.push_back(Index(k));
           own.initialPositions.push_back(samples_.positions[k]);
         }
-      objectKnown_[u.object] = 1;
+      own.known = true;
     }
     const ObjectPose& pose = u.pose;
     parallelFor(own.samples.size(), [&](std::size_t s) {

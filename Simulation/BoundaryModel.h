@@ -119,11 +119,11 @@ class BoundaryModel {
  private:
   // Per object given a pose: its samples and their positions at t = 0 (kept on first follow()).
   struct ObjectSamples {
+    bool known = false;  // given a pose before (its samples below are then collected)
     std::vector<Index> samples;
     std::vector<Vector3r> initialPositions;
   };
   std::vector<ObjectSamples> objectSamples_;
-  std::vector<char> objectKnown_;
 };
 
 }  // namespace consph

@@ -238,11 +238,8 @@ void Probes::measureLoads(const NeighborLists& lists, const std::vector<Vector3r
   }
   // The window since the last row: each load's impulse (value x dt) and the time it spans.
   window_.impulses.resize(values_.size(), 0.0);
-  for (std::size_t p = 0; p < np; ++p) {
-    const ProbeKind kind = probes_[p].kind;
-    if (kind == ProbeKind::Level) continue;
-    for (int a = 0; a < (kind == ProbeKind::Force ? 6 : 1); ++a) window_.impulses[column_[p] + a] += values_[column_[p] + a] * double(dt);
-  }
+  for (std::size_t p = 0; p < np; ++p)
+    for (std::size_t a = 0; a < loadColumns(p); ++a) window_.impulses[column_[p] + a] += values_[column_[p] + a] * double(dt);
   window_.time += double(dt);
   ++window_.steps;
 }
@@ -251,12 +248,8 @@ std::vector<double> Probes::windowValues() const {
   // One step in the window: its values as they are (every-step rows keep their bits).
   std::vector<double> out = values_;
   if (window_.steps <= 1 || !(window_.time > 0)) return out;
-  for (std::size_t p = 0; p < probes_.size(); ++p) {
-    const ProbeKind kind = probes_[p].kind;
-    if (kind == ProbeKind::Level) continue;
-    for (int a = 0; a < (kind == ProbeKind::Force ? 6 : 1); ++a)
-      out[column_[p] + a] = window_.impulses[column_[p] + a] / window_.time;
-  }
+  for (std::size_t p = 0; p < probes_.size(); ++p)
+    for (std::size_t a = 0; a < loadColumns(p); ++a) out[column_[p] + a] = window_.impulses[column_[p] + a] / window_.time;
   return out;
 }
 

@@ -101,6 +101,10 @@ class Probes {
     Real radius = 0, weightedArea = 0;                               // m, m^2 (int w dA)
   };
   Real weight(Real t2, Real radius) const;
+  // Probe p's load columns from column_[p] on: 6 for a force, 1 for a pressure, 0 for a level.
+  std::size_t loadColumns(std::size_t p) const {
+    return probes_[p].kind == ProbeKind::Force ? 6 : probes_[p].kind == ProbeKind::Pressure ? 1 : 0;
+  }
 
   std::vector<ProbeDescription> probes_;
   std::vector<PressureGeometry> pressure_;  // per probe (used by pressure probes)
