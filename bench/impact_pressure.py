@@ -183,7 +183,8 @@ def main():
               ("arrival", "peak", "peak_short", "peak_smooth", "impulse", "noise", "late", "wall") if k in out), flush=True)
     precision = next((x["precision"] for x in results if "precision" in x), "?")
     lines = [f"Machine: {machine_line()}; {args.threads} thread(s); {precision}; DFSPH, Akinci walls, probes of radius "
-             f"{PROBE_RADIUS} m on the far wall, p / rho0 g H (H = {H} m), impulse / (rho0 g H s).", "",
+             f"{PROBE_RADIUS} m on the far wall, densityRelaxation {args.density_relaxation}, p / rho0 g H (H = {H} m), "
+             "impulse / (rho0 g H s).", "",
              "| treatment | r, m | max dt, s | mean dt, s | arrival, s | peak raw | peak 2 ms | peak 5 ms | "
              "impulse 0.1 s | noise | high probe 0.55-0.6 s | wall s |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for x in results:
