@@ -145,8 +145,8 @@ void RigidBodySystem::setFluidDensity(Real rho0) {
 
 bool RigidBodySystem::hasFreeDynamic() const { return std::find(free_.begin(), free_.end(), 1) != free_.end(); }
 
-const std::vector<MovingPair>& RigidBodySystem::movingPairs(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
-                                                            const std::vector<Real>& fluidMasses, const BoundarySamples& samples) {
+const std::vector<MovingPair>& RigidBodySystem::movingPairs(const NeighborLists& lists, std::span<const Vector3r> fluidPositions,
+                                                            std::span<const Real> fluidMasses, const BoundaryView& samples) {
   // Once per step: the neighbour lists are fixed until the bodies move (advance()).
   if (movingPairsStep_ == stepsAdvanced_) return movingPairs_;
   movingPairsStep_ = stepsAdvanced_;
@@ -172,8 +172,8 @@ const std::vector<MovingPair>& RigidBodySystem::movingPairs(const NeighborLists&
   return movingPairs_;
 }
 
-void RigidBodySystem::respond(const std::vector<Vector3r>& fluidPositions, const std::vector<Vector3r>& impulses,
-                              const Vector3r& gravity, Real dt, BoundarySamples& samples) {
+void RigidBodySystem::respond(std::span<const Vector3r> fluidPositions, const std::vector<Vector3r>& impulses,
+                              const Vector3r& gravity, Real dt, const BoundaryView& samples) {
   trialImpulse_.assign(bodies_.size(), Vector3r::Zero());
   trialAngularImpulse_.assign(bodies_.size(), Vector3r::Zero());
   // As takeFluidImpulses: the torque taken at the fluid particle.
@@ -199,12 +199,12 @@ void RigidBodySystem::respond(const std::vector<Vector3r>& fluidPositions, const
   });
 }
 
-void RigidBodySystem::restore(BoundarySamples& samples) {
+void RigidBodySystem::restore(const BoundaryView& samples) {
   forEachFreeSample(samples, [&](Index k, std::size_t i) { samples.velocities[k] = bodies_[i].velocityAt(samples.positions[k]); });
 }
 
-template <class F>
-void RigidBodySystem::forEachFreeSample(const BoundarySamples& samples, F&& f) const {
+template <class Samples, class F>
+void RigidBodySystem::forEachFreeSample(const Samples& samples, F&& f) const {
   // A sampled model lists each body's samples; an implicit one (volume maps) makes new virtual
   // samples every step, found by their object.
   bool listed = true;

@@ -79,11 +79,11 @@ class RigidBodySystem final : public MovingBodies {
   const std::vector<PoseUpdate>& poses(bool onlyChanged) override;
 
   // BodyResponse: the free dynamic bodies' samples move as if the bodies took the impulses so far.
-  const std::vector<MovingPair>& movingPairs(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
-                                             const std::vector<Real>& fluidMasses, const BoundarySamples& samples) override;
-  void respond(const std::vector<Vector3r>& fluidPositions, const std::vector<Vector3r>& impulses, const Vector3r& gravity, Real dt,
-               BoundarySamples& samples) override;
-  void restore(BoundarySamples& samples) override;
+  const std::vector<MovingPair>& movingPairs(const NeighborLists& lists, std::span<const Vector3r> fluidPositions,
+                                             std::span<const Real> fluidMasses, const BoundaryView& samples) override;
+  void respond(std::span<const Vector3r> fluidPositions, const std::vector<Vector3r>& impulses, const Vector3r& gravity, Real dt,
+               const BoundaryView& samples) override;
+  void restore(const BoundaryView& samples) override;
   bool hasFreeDynamic() const override;
 
   // Linear momentum of the dynamic bodies, kg m/s.
@@ -139,8 +139,8 @@ class RigidBodySystem final : public MovingBodies {
   std::vector<WrittenState> written_;
   std::vector<PoseUpdate> poses_;
   // Calls f(k, body) for every sample k of a free dynamic body.
-  template <class F>
-  void forEachFreeSample(const BoundarySamples& samples, F&& f) const;
+  template <class Samples, class F>  // BoundarySamples or a BoundaryView
+  void forEachFreeSample(const Samples& samples, F&& f) const;
   static constexpr Index kNone = ~Index(0);
 };
 

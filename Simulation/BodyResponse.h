@@ -12,10 +12,11 @@
 // sub-iterations in the sense of the paper's Section 3.5 ([ICS*14] weak, [GPB*19] strong); not
 // [GPB*19]'s interlinked solver.
 #pragma once
+#include <span>
 #include <vector>
 
-#include "Simulation/BoundarySamples.h"
 #include "Simulation/NeighborSearch.h"
+#include "Simulation/ParticleView.h"
 
 namespace consph {
 
@@ -30,16 +31,16 @@ class BodyResponse {
   virtual ~BodyResponse() = default;
   // The pairs of `lists` (this step's) whose sample belongs to a free dynamic body, in fluid
   // order; found once per step, so the iterations touch only these.
-  virtual const std::vector<MovingPair>& movingPairs(const NeighborLists& lists, const std::vector<Vector3r>& fluidPositions,
-                                                     const std::vector<Real>& fluidMasses, const BoundarySamples& samples) = 0;
+  virtual const std::vector<MovingPair>& movingPairs(const NeighborLists& lists, std::span<const Vector3r> fluidPositions,
+                                                     std::span<const Real> fluidMasses, const BoundaryView& samples) = 0;
   // `impulses[p]`: the impulse the fluid has given the sample of movingPairs()[p] this step so
   // far. Sets the velocities of the free dynamic bodies' samples to
   // v + (J + m g dt) / (m + m_c), w + (I + I_c)^-1 L, where m_c and I_c are the mass and
   // inertia of the fluid particles touching the body (the bodies' own state is untouched).
-  virtual void respond(const std::vector<Vector3r>& fluidPositions, const std::vector<Vector3r>& impulses, const Vector3r& gravity,
-                       Real dt, BoundarySamples& samples) = 0;
+  virtual void respond(std::span<const Vector3r> fluidPositions, const std::vector<Vector3r>& impulses, const Vector3r& gravity,
+                       Real dt, const BoundaryView& samples) = 0;
   // The samples' velocities back to the bodies' own.
-  virtual void restore(BoundarySamples& samples) = 0;
+  virtual void restore(const BoundaryView& samples) = 0;
 };
 
 }  // namespace consph

@@ -363,7 +363,6 @@ StepContext Simulation::makeContext() {
 void Simulation::step() {
   if (stats_.steps == 0 && writer_) writeFrameIfDue();  // frame 0: the initial state
   Timer stepTimer;
-  StepContext ctx = makeContext();
 
   // Emitters: new layers of particles leave their nozzles.
   if (!emitters_.empty()) {
@@ -380,6 +379,9 @@ void Simulation::step() {
     ScopedTimer t(stats_.densities);
     computeDensities();
   }
+  // The plugins' view of this step's particles: made after the emitters and the neighbour search,
+  // which are what resize the fluid's fields and a volume map's virtual samples.
+  StepContext ctx = makeContext();
   // DFSPH's divergence solve (no-op for other solvers).
   {
     ScopedTimer t(stats_.divergenceSolve);

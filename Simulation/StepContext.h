@@ -1,13 +1,13 @@
 // Everything a plugin needs during one step, passed explicitly (no global simulation object).
 #pragma once
-#include <string>
 #include <cstddef>
+#include <string>
 
 #include "Simulation/BodyResponse.h"
-#include "Simulation/BoundarySamples.h"
 #include "Simulation/FluidModel.h"
 #include "Simulation/Kernel.h"
 #include "Simulation/NeighborSearch.h"
+#include "Simulation/ParticleView.h"
 #include "Utilities/Log.h"
 
 namespace consph {
@@ -21,8 +21,8 @@ enum class BoundaryPressure {
 const char* boundaryPressureName(BoundaryPressure b);
 
 struct StepContext {
-  FluidModel& fluid;
-  BoundarySamples& boundary;
+  FluidView fluid;                         // spans over the fluid's fields (Simulation/ParticleView.h)
+  BoundaryView boundary;                   // and over the boundary samples'
   const NeighborLists& fluidNeighbors;     // fluid i -> fluid j (j != i)
   const NeighborLists& boundaryNeighbors;  // fluid i -> boundary sample k
   const CubicSplineKernel& kernel;

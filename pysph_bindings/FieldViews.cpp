@@ -33,7 +33,7 @@ std::vector<py::ssize_t> stridesOf(FieldType type) {
 }
 
 template <class T>
-py::array copyOf(const std::vector<T>& values, FieldType type) {
+py::array copyOf(std::span<const T> values, FieldType type) {
   py::array out(dtypeOf(type), shapeOf(type, values.size()), stridesOf(type));
   if (!values.empty()) std::memcpy(out.mutable_data(), values.data(), values.size() * sizeof(T));
   return out;
@@ -50,9 +50,9 @@ py::array fieldView(const std::shared_ptr<PySimulation>& simulation, FieldBase& 
   return view;
 }
 
-py::array copyToNumpy(const std::vector<Real>& values) { return copyOf(values, FieldType::Scalar); }
-py::array copyToNumpy(const std::vector<Index>& values) { return copyOf(values, FieldType::Index); }
-py::array copyToNumpy(const std::vector<Vector3r>& values) { return copyOf(values, FieldType::Vector3); }
+py::array copyToNumpy(std::span<const Real> values) { return copyOf(values, FieldType::Scalar); }
+py::array copyToNumpy(std::span<const Index> values) { return copyOf(values, FieldType::Index); }
+py::array copyToNumpy(std::span<const Vector3r> values) { return copyOf(values, FieldType::Vector3); }
 
 void bindFieldViews(py::module_& m) {
   py::class_<FieldViewOwner>(m, "FieldViewOwner", R"doc(

@@ -9,6 +9,8 @@
 #pragma once
 #include <pybind11/numpy.h>
 
+#include <span>
+
 #include "pysph_bindings/PySimulation.h"
 
 namespace consph::python {
@@ -39,9 +41,9 @@ class FieldViewOwner {
 py::array fieldView(const std::shared_ptr<PySimulation>& simulation, FieldBase& field, bool writable);
 
 // Copies for data that is rebuilt every step (neighbour lists, boundary samples).
-py::array copyToNumpy(const std::vector<Real>& values);
-py::array copyToNumpy(const std::vector<Index>& values);
-py::array copyToNumpy(const std::vector<Vector3r>& values);
+py::array copyToNumpy(std::span<const Real> values);
+py::array copyToNumpy(std::span<const Index> values);
+py::array copyToNumpy(std::span<const Vector3r> values);
 
 void bindFieldViews(py::module_& m);
 

@@ -47,7 +47,7 @@ DragForce_Gissler2017::DragForce_Gissler2017(const Params& p, const PluginContex
 }
 
 void DragForce_Gissler2017::addAccelerations(StepContext& ctx) {
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const auto& fn = ctx.fluidNeighbors;
   const auto& bn = ctx.boundaryNeighbors;
   const Real pi = std::numbers::pi_v<Real>;

@@ -29,7 +29,7 @@ std::vector<ParamSpec> DragForce_Macklin2014::parameters() { return bound().spec
 DragForce_Macklin2014::DragForce_Macklin2014(const Params& p) { bound().assign(p, *this); }
 
 void DragForce_Macklin2014::addAccelerations(StepContext& ctx) {
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const Real invRho0 = Real(1) / f.density0();
   parallelFor(f.size(), [&](std::size_t i) {
     const Real missing = std::max(1 - f.densities[i] * invRho0, Real(0));

@@ -9,8 +9,8 @@
 namespace consph {
 
 void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
-  const FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
+  const FluidView& f = ctx.fluid;
+  const BoundaryView& b = ctx.boundary;
   const NeighborLists& bn = ctx.boundaryNeighbors;
   invRho0Squared_ = Real(1) / (f.density0() * f.density0());
   const std::size_t n = f.size();
@@ -39,8 +39,8 @@ void BoundaryPressureTreatment::computeMlsCoefficients(const StepContext& ctx) {
   // so M is inverted once per step and each iteration is one sparse product (extrapolate()).
   // Near-singular M (the fluid around x_k is flat or a line): c_kf = w_f / sum w_f (the
   // weighted average p_bar).
-  const FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
+  const FluidView& f = ctx.fluid;
+  const BoundaryView& b = ctx.boundary;
   const CubicSplineKernel& kernel = ctx.kernel;
   transposeNeighborLists(ctx.boundaryNeighbors, b.size(), boundaryToFluid_);
   const NeighborLists& t = boundaryToFluid_;
@@ -110,7 +110,7 @@ void BoundaryPressureTreatment::computeMlsCoefficients(const StepContext& ctx) {
 void BoundaryPressureTreatment::computeExtrapolationCoupling(const StepContext& ctx) {
   // h_i = sum_k m~_k c_ki grad W_ik: how the boundary term of a_i^p moves with p_i through the
   // extrapolated p_k (each k's list holds its fluid neighbours in ascending order).
-  const BoundarySamples& b = ctx.boundary;
+  const BoundaryView& b = ctx.boundary;
   const NeighborLists& bn = ctx.boundaryNeighbors;
   const NeighborLists& t = boundaryToFluid_;
   const std::size_t n = ctx.fluid.size();
@@ -133,9 +133,8 @@ void BoundaryPressureTreatment::resetBoundaryPressures() {
 }
 
 void BoundaryPressureTreatment::reactionImpulses(const StepContext& ctx, Real dt, const std::vector<Real>& beta,
-                                                 const std::vector<Real>& pressure,
-                                                 std::vector<Vector3r>& impulsePerPair) const {
-  const FluidModel& f = ctx.fluid;
+                                                 std::span<const Real> pressure, std::vector<Vector3r>& impulsePerPair) const {
+  const FluidView& f = ctx.fluid;
   const auto& bn = ctx.boundaryNeighbors;
   impulsePerPair.resize(bn.pairCount());
   parallelFor(f.size(), [&](std::size_t i) {

@@ -101,7 +101,7 @@ class BoundaryPressureTreatment {
   // The reaction on every boundary sample, Eq. (35), of one application of the boundary term
   // over `dt` with pressures beta_i = p_i / rho_i^2 and p_i (explicit solvers, or an implicit
   // one that applies its final pressures once): dt m_i m~_k b_ik grad W_ik per pair.
-  void reactionImpulses(const StepContext& ctx, Real dt, const std::vector<Real>& beta, const std::vector<Real>& pressure,
+  void reactionImpulses(const StepContext& ctx, Real dt, const std::vector<Real>& beta, std::span<const Real> pressure,
                         std::vector<Vector3r>& impulsePerPair) const;
 
   // Extrapolation: p_k = max(0, sum_f c_kf p_f) from the fluid pressures pressureOf(f); keeps the

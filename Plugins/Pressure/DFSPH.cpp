@@ -74,7 +74,7 @@ void DFSPH::computeDiagonal(StepContext& ctx) {
 }
 
 Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const auto& fn = ctx.fluidNeighbors;
   const auto& bn = ctx.boundaryNeighbors;
   const Real rho0 = f.density0(), dt = ctx.dt;
@@ -102,7 +102,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
 }
 
 void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k, const std::vector<Real>* accumulated) {
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const Real dt = ctx.dt;
   // Extrapolation: p_k from the pressures after this increment, p_j = (beta_j + k_j) rho_j^2;
   // the velocities already carry the previously applied p_k, so only its change is applied.
@@ -135,7 +135,7 @@ void DFSPH::warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale) {
 void DFSPH::beforeNonPressureForces(StepContext& ctx) {
   stats_ = PressureSolverStats();
   computeDiagonal(ctx);
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const std::size_t n = f.size();
   divergenceDt_ = 0;
   if (!settings_.divergenceSolver) return;
@@ -160,7 +160,7 @@ void DFSPH::beforeNonPressureForces(StepContext& ctx) {
 }
 
 void DFSPH::solve(StepContext& ctx) {
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const std::size_t n = f.size();
   // beta of the density solve scales with 1 / dt^2.
   warmStart(ctx, densityBeta_, (ctx.dtPrevious * ctx.dtPrevious) / (ctx.dt * ctx.dt));
@@ -209,7 +209,7 @@ void DFSPH::letBodiesRespond(StepContext& ctx, bool densitySolve) {
   // During the divergence solve (run with the last step's dt) only its own impulses count, and
   // gravity has not acted yet; during the density solve both solves' and this step's gravity.
   // Only the pairs with a moving sample (a small share: the walls' pairs are skipped).
-  const FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const std::vector<MovingPair>& pairs = ctx.bodies->movingPairs(ctx.boundaryNeighbors, f.positions, f.masses, ctx.boundary);
   const Real divergenceDt = densitySolve ? divergenceDt_ : ctx.dt;
   const std::vector<Real>& divergenceP =

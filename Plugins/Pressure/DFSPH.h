@@ -58,7 +58,7 @@ class DFSPH final : public PressureSolver {
   // pairImpulses' value for the pair e of fluid particle i.
   Vector3r pairImpulse(const StepContext& ctx, Index i, Index e, Real divergenceDt, const std::vector<Real>& divergenceP,
                        bool withDensity) const {
-    const FluidModel& f = ctx.fluid;
+    const FluidView& f = ctx.fluid;
     const Index k = ctx.boundaryNeighbors.indices[e];
     const Real rho2 = f.densities[i] * f.densities[i];
     const Real betaDiv = divergenceBeta_[i], betaDen = densityBeta_[i];

@@ -41,7 +41,7 @@ IISPH::IISPH(const Params& p, BoundaryPressure treatment) : treatment_(treatment
 void IISPH::prepare(StepContext& ctx) {
   treatment_.beginStep(ctx);
   if (treatment_.extrapolates()) treatment_.computeExtrapolationCoupling(ctx);
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const Real rho0 = f.density0(), dt = ctx.dt, omega = settings_.omega;
   const Real start = settings_.warmStart ? Real(0.5) : Real(0);
   const Real relaxationTime = settings_.relaxOverResolutionStep ? ctx.densityRelaxationTime : Real(0);
@@ -70,7 +70,7 @@ void IISPH::prepare(StepContext& ctx) {
 }
 
 void IISPH::computeAccelerations(StepContext& ctx) {
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   if (treatment_.extrapolates()) treatment_.extrapolate([&](Index j) { return f.pressures[j]; });
   const std::vector<Real>& pk = treatment_.boundaryPressures();
   parallelFor(f.size(), [&](std::size_t i) {
@@ -79,7 +79,7 @@ void IISPH::computeAccelerations(StepContext& ctx) {
 }
 
 Real IISPH::jacobiSweep(StepContext& ctx) {
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const NeighborLists& fn = ctx.fluidNeighbors;
   const Real rho0 = f.density0(), dt = ctx.dt;
   const std::size_t n = f.size();
@@ -116,7 +116,7 @@ void IISPH::solve(StepContext& ctx) {
   stats_.hitIterationCap = error > settings_.maxError && it >= settings_.maxIterations;
   // v(t + dt) = v* + dt a^p with the final pressures.
   computeAccelerations(ctx);
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const Real dt = ctx.dt;
   parallelFor(f.size(), [&](std::size_t i) { f.velocities[i] += dt * pressureAcc_[i]; });
 }

@@ -12,8 +12,8 @@ namespace consph {
 // D rho_i / Dt = sum_j m_j (v_i - v_j) . grad W_ij + sum_k m~_k (v_i - v_k) . grad W_ik
 // (Eqs. 6 and 14), from the current velocities (v* in the density solve).
 inline Real densityRate(const StepContext& ctx, std::size_t i) {
-  const FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
+  const FluidView& f = ctx.fluid;
+  const BoundaryView& b = ctx.boundary;
   const NeighborLists& fn = ctx.fluidNeighbors;
   const NeighborLists& bn = ctx.boundaryNeighbors;
   const Vector3r vi = f.velocities[i];
@@ -75,7 +75,7 @@ inline Real driftTarget(Real rho, Real rho0, Real dt, Real relaxationTime, Real 
 // Fluid part of the pressure acceleration, Eq. (9) written with beta = p / rho^2 (= lambda / rho,
 // Eq. 24): -sum_j m_j (beta_i + beta_j) grad W_ij.
 inline Vector3r fluidPressureAcceleration(const StepContext& ctx, std::size_t i, const std::vector<Real>& beta) {
-  const FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const NeighborLists& fn = ctx.fluidNeighbors;
   const Real bi = beta[i];
   Vector3r a = Vector3r::Zero();
@@ -88,7 +88,7 @@ inline Vector3r fluidPressureAcceleration(const StepContext& ctx, std::size_t i,
 
 // sum_j m_j |grad W_ij|^2 m_i (Eq. 12) and the gradient sum sum_j m_j grad W_ij, for the diagonal.
 inline void fluidDiagonalSums(const StepContext& ctx, std::size_t i, Vector3r& gradientSum, Real& squares) {
-  const FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const NeighborLists& fn = ctx.fluidNeighbors;
   const Real mi = f.masses[i];
   for (Index e = fn.begin(i); e < fn.end(i); ++e) {

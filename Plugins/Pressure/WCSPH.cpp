@@ -31,7 +31,7 @@ WCSPH::WCSPH(const Params& p, BoundaryPressure treatment) : treatment_(treatment
 
 void WCSPH::solve(StepContext& ctx) {
   stats_ = PressureSolverStats();
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const Real rho0 = f.density0(), dt = ctx.dt;
   const std::size_t n = f.size();
   beta_.resize(f.size());

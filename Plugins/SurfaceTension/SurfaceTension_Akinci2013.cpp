@@ -57,8 +57,8 @@ SurfaceTension_Akinci2013::SurfaceTension_Akinci2013(const Params& p, FluidModel
 }
 
 void SurfaceTension_Akinci2013::addAccelerations(StepContext& ctx) {
-  FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
+  const FluidView& f = ctx.fluid;
+  const BoundaryView& b = ctx.boundary;
   const auto& fn = ctx.fluidNeighbors;
   const auto& bn = ctx.boundaryNeighbors;
   const std::size_t n = f.size();

@@ -23,7 +23,7 @@ inline Real regularisation(const CubicSplineKernel& kernel) {
 }
 
 // sum_j (m_j / rho_j) (u_ij . x_ij) / (|x_ij|^2 + eps) grad W_ij for any particle vector field u.
-inline Vector3r fluidSum(const FluidModel& f, const NeighborLists& fn, std::size_t i, const Vector3r* u, Real eps) {
+inline Vector3r fluidSum(const FluidView& f, const NeighborLists& fn, std::size_t i, const Vector3r* u, Real eps) {
   const Vector3r xi = f.positions[i], ui = u[i];
   Vector3r s = Vector3r::Zero();
   for (Index e = fn.begin(i); e < fn.end(i); ++e) {
@@ -36,8 +36,8 @@ inline Vector3r fluidSum(const FluidModel& f, const NeighborLists& fn, std::size
 
 // sum_k m~_k ((ui - w_k) . x_ik) / (|x_ik|^2 + eps) grad W_ik, with w_k the boundary velocity
 // (withBoundaryVelocity) or zero (the part of the term that is linear in ui).
-inline Vector3r boundarySum(const BoundarySamples& b, const NeighborLists& bn, std::size_t i, const Vector3r& xi,
-                            const Vector3r& ui, Real eps, bool withBoundaryVelocity) {
+inline Vector3r boundarySum(const BoundaryView& b, const NeighborLists& bn, std::size_t i, const Vector3r& xi, const Vector3r& ui,
+                            Real eps, bool withBoundaryVelocity) {
   Vector3r s = Vector3r::Zero();
   for (Index e = bn.begin(i); e < bn.end(i); ++e) {
     const Index k = bn.indices[e];

@@ -44,7 +44,7 @@ Real Viscosity_Standard::maxStableTimeStep(const CubicSplineKernel& kernel) cons
 
 void Viscosity_Standard::addAccelerations(StepContext& ctx) {
   using namespace viscosity;
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const Real eps = regularisation(ctx.kernel), rho0 = f.density0();
   const bool boundary = boundaryViscosity_ > 0;
   parallelFor(f.size(), [&](std::size_t i) {

@@ -40,8 +40,8 @@ Viscosity_Weiler2018::Viscosity_Weiler2018(const Params& p, FluidModel& fluid)
 
 void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
   using namespace viscosity;
-  FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
+  const FluidView& f = ctx.fluid;
+  const BoundaryView& b = ctx.boundary;
   const auto& fn = ctx.fluidNeighbors;
   const auto& bn = ctx.boundaryNeighbors;
   const std::size_t n = f.size();
@@ -82,7 +82,7 @@ void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
   });
 
   // A x = m_i (x_i - dt nu (rho0 / rho_i) sum_j (m_j / rho_j) K_ij x_ij - dt nu_b / rho_i sum_k m~_k K_ik x_i).
-  auto applyA = [&](const std::vector<Vector3r>& x, std::vector<Vector3r>& out) {
+  auto applyA = [&](std::span<const Vector3r> x, std::vector<Vector3r>& out) {
     parallelFor(n, [&](std::size_t i) {
       const Real rhoi = f.densities[i];
       Vector3r lx = (cFluid / rhoi) * fluidSum(f, fn, i, x.data(), eps);
@@ -101,7 +101,7 @@ void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
   const Real change2 = parallelSum<Real>(n, [&](std::size_t i) { return (rhs_[i] - workspace_.ap[i]).squaredNorm(); });
   const Real tolerance = maxError_ * std::sqrt(change2);
   if (change2 == Real(0)) {  // rest, rigid motion: v' = v exactly
-    solution_ = f.velocities;
+    solution_.assign(f.velocities.begin(), f.velocities.end());
     last_ = ConjugateGradientResult{0, 0, true};
   } else {
     last_ = solveConjugateGradient(applyA, applyPreconditioner, rhs_, solution_, tolerance, maxIterations_, workspace_);

@@ -29,8 +29,8 @@ std::vector<ParamSpec> Viscosity_XSPH::parameters() { return bound().specs(); }
 Viscosity_XSPH::Viscosity_XSPH(const Params& p) { bound().assign(p, *this); }
 
 void Viscosity_XSPH::addAccelerations(StepContext& ctx) {
-  FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
+  const FluidView& f = ctx.fluid;
+  const BoundaryView& b = ctx.boundary;
   const auto& fn = ctx.fluidNeighbors;
   const auto& bn = ctx.boundaryNeighbors;
   // dt is the previous step's (forces run before the CFL step): the smoothing per step is eps.

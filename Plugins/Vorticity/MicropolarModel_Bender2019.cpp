@@ -38,8 +38,8 @@ MicropolarModel_Bender2019::MicropolarModel_Bender2019(const Params& p, FluidMod
 }
 
 void MicropolarModel_Bender2019::addAccelerations(StepContext& ctx) {
-  FluidModel& f = ctx.fluid;
-  const BoundarySamples& b = ctx.boundary;
+  const FluidView& f = ctx.fluid;
+  const BoundaryView& b = ctx.boundary;
   const auto& fn = ctx.fluidNeighbors;
   const auto& bn = ctx.boundaryNeighbors;
   const std::size_t n = f.size();

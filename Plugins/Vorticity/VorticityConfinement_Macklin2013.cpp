@@ -33,7 +33,7 @@ std::vector<ParamSpec> VorticityConfinement_Macklin2013::parameters() { return b
 VorticityConfinement_Macklin2013::VorticityConfinement_Macklin2013(const Params& p) { bound().assign(p, *this); }
 
 void VorticityConfinement_Macklin2013::addAccelerations(StepContext& ctx) {
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   const auto& fn = ctx.fluidNeighbors;
   const std::size_t n = f.size();
   omega_.resize(f.size());

@@ -24,7 +24,7 @@ std::vector<ParamSpec> LinearDrag::parameters() {
 LinearDrag::LinearDrag(const Params& p) : coefficient_(p.real("coefficient")), airVelocity_(p.vector3("airVelocity")) {}
 
 void LinearDrag::addAccelerations(StepContext& ctx) {
-  FluidModel& f = ctx.fluid;
+  const FluidView& f = ctx.fluid;
   // One particle at a time, no neighbours: a plain parallel loop, each i written by one thread.
   parallelFor(f.size(), [&](std::size_t i) { f.accelerations[i] -= coefficient_ * (f.velocities[i] - airVelocity_); });
 }
