@@ -7,6 +7,7 @@
 #include "Boundary/MeshSampling.h"
 #include "Boundary/ObjectSampling.h"
 #include "Boundary/RestLayer.h"
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/MassProperties.h"
 #include "Utilities/ParallelFor.h"
@@ -27,25 +28,40 @@ const PluginRegistration<BoundaryModel> registration{
     }};
 }  // namespace
 
-std::vector<ParamSpec> ParticleBoundary_Akinci2012::parameters() {
-  return {{"samplingDistance", ParamType::Real, 1.0,
-           "distance between boundary particles on the surface, in particle radii r", 0.25, 4.0},
-          {"surfaceOffset", ParamType::Real, -1.0,
-           "distance the sample layer is moved into the solid, in r; -1: computed so the resting fluid's "
-           "surface lies on the mesh; 0: samples on the mesh (Akinci 2012)",
-           -1.0, 4.0},
-          {"offsetObjects", ParamType::String, "auto",
-           "which objects get the surface offset: auto (moving bodies, and static objects the initial fluid reaches: "
-           "a block drawn up to a wall), moving (dynamic and animated bodies, whose buoyancy depends on it), all, or none",
-           -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"auto", "moving", "all", "none"}}};
+const BoundParams<ParticleBoundary_Akinci2012::Settings>& ParticleBoundary_Akinci2012::bound() {
+  static const BoundParams<Settings> table{
+      bind({"samplingDistance", ParamType::Real, 1.0, "distance between boundary particles on the surface, in particle radii r",
+            0.25, 4.0},
+           &Settings::samplingDistance),
+      bind({"surfaceOffset", ParamType::Real, -1.0,
+            "distance the sample layer is moved into the solid, in r; -1: computed so the resting fluid's "
+            "surface lies on the mesh; 0: samples on the mesh (Akinci 2012)",
+            -1.0, 4.0},
+           &Settings::surfaceOffset),
+      bind({"offsetObjects",
+            ParamType::String,
+            "auto",
+            "which objects get the surface offset: auto (moving bodies, and static objects the initial fluid reaches: "
+            "a block drawn up to a wall), moving (dynamic and animated bodies, whose buoyancy depends on it), all, or none",
+            -std::numeric_limits<double>::infinity(),
+            std::numeric_limits<double>::infinity(),
+            {"auto", "moving", "all", "none"}},
+           &Settings::offsetObjects),
+  };
+  return table;
 }
 
+std::vector<ParamSpec> ParticleBoundary_Akinci2012::parameters() { return bound().specs(); }
+
 ParticleBoundary_Akinci2012::ParticleBoundary_Akinci2012(const Params& params, Real particleRadius, Real fluidSpacing)
+    : ParticleBoundary_Akinci2012(bound().read(params), particleRadius, fluidSpacing) {}
+
+ParticleBoundary_Akinci2012::ParticleBoundary_Akinci2012(const Settings& settings, Real particleRadius, Real fluidSpacing)
     : particleRadius_(particleRadius),
-      samplingDistance_(params.real("samplingDistance") * particleRadius),
+      samplingDistance_(settings.samplingDistance * particleRadius),
       fluidSpacing_(fluidSpacing),
-      requestedOffset_(params.real("surfaceOffset") < 0 ? Real(-1) : params.real("surfaceOffset") * particleRadius),
-      offsetObjects_(params.string("offsetObjects")) {}
+      requestedOffset_(settings.surfaceOffset < 0 ? Real(-1) : settings.surfaceOffset * particleRadius),
+      offsetObjects_(settings.offsetObjects) {}
 
 Real ParticleBoundary_Akinci2012::restDistance(const CubicSplineKernel& kernel, Real samplingDistance, Real fluidSpacing) {
   const Real h = kernel.supportRadius(), s = samplingDistance, d = fluidSpacing;

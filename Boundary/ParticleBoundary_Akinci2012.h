@@ -24,6 +24,9 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class ParticleBoundary_Akinci2012 final : public BoundaryModel {
  public:
   ParticleBoundary_Akinci2012(const Params& params, Real particleRadius, Real fluidSpacing);
@@ -46,6 +49,15 @@ class ParticleBoundary_Akinci2012 final : public BoundaryModel {
   // Does a particle of `fluid` start within 0.95 lattice spacings of `surfacePoints`?
   bool fluidReaches(const std::vector<Vector3r>& surfacePoints, const FluidModel& fluid, Real supportRadius) const;
   std::vector<Vector3r> sampleObject(const BoundaryObject& o, Real offset) const;
+
+  // The parameters as declared (lengths in particle radii), each declared once with its place
+  // here (Simulation/ParamBinding.h); the constructor turns them into the members below.
+  struct Settings {
+    Real samplingDistance, surfaceOffset;
+    std::string offsetObjects;
+  };
+  static const BoundParams<Settings>& bound();
+  ParticleBoundary_Akinci2012(const Settings& settings, Real particleRadius, Real fluidSpacing);
 
   Real particleRadius_;
   Real samplingDistance_;  // m

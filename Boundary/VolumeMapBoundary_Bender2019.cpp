@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/AxisAlignedBox.h"
 #include "Utilities/ParallelFor.h"
@@ -27,31 +28,52 @@ const PluginRegistration<BoundaryModel> registration{
     }};
 }  // namespace
 
-std::vector<ParamSpec> VolumeMapBoundary_Bender2019::parameters() {
-  return {{"cellSize", ParamType::Real, 1.0, "grid spacing of the distance and volume maps, in particle radii r (2 r: a tank filled to its walls starts at up to 2.1 rho0 in a corner)", 0.25, 8.0},
-          {"surfaceOffset", ParamType::Real, -1.0,
-           "distance the boundary surface is moved into the solid, in r; -1: computed so the resting fluid's surface "
-           "lies on the mesh (1.35 r with the defaults); 0: the mesh itself (Bender et al. 2019)",
-           -1.0, 4.0},
-          {"offsetObjects", ParamType::String, "auto",
-           "which objects get the surface offset: auto (moving bodies, and static objects the initial fluid reaches: a "
-           "block drawn up to a wall), all, or none",
-           -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"auto", "all", "none"}},
-          {"cache", ParamType::String, "cache",
-           "folder that keeps built maps for the next run (relative: to the scene file's folder); \"\": no cache"}};
+const BoundParams<VolumeMapBoundary_Bender2019::Settings>& VolumeMapBoundary_Bender2019::bound() {
+  static const BoundParams<Settings> table{
+      bind({"cellSize", ParamType::Real, 1.0,
+            "grid spacing of the distance and volume maps, in particle radii r (2 r: a tank filled to its walls starts at "
+            "up to 2.1 rho0 in a corner)",
+            0.25, 8.0},
+           &Settings::cellSize),
+      bind({"surfaceOffset", ParamType::Real, -1.0,
+            "distance the boundary surface is moved into the solid, in r; -1: computed so the resting fluid's surface "
+            "lies on the mesh (1.35 r with the defaults); 0: the mesh itself (Bender et al. 2019)",
+            -1.0, 4.0},
+           &Settings::surfaceOffset),
+      bind({"offsetObjects",
+            ParamType::String,
+            "auto",
+            "which objects get the surface offset: auto (moving bodies, and static objects the initial fluid reaches: a "
+            "block drawn up to a wall), all, or none",
+            -std::numeric_limits<double>::infinity(),
+            std::numeric_limits<double>::infinity(),
+            {"auto", "all", "none"}},
+           &Settings::offsetObjects),
+      bind({"cache", ParamType::String, "cache",
+            "folder that keeps built maps for the next run (relative: to the scene file's folder); \"\": no cache"},
+           &Settings::cache),
+  };
+  return table;
 }
 
+std::vector<ParamSpec> VolumeMapBoundary_Bender2019::parameters() { return bound().specs(); }
+
 VolumeMapBoundary_Bender2019::VolumeMapBoundary_Bender2019(const Params& params, Real particleRadius, Real fluidSpacing,
-                                                         const LogSink& log, const std::string& sceneDirectory)
+                                                           const LogSink& log, const std::string& sceneDirectory)
+    : VolumeMapBoundary_Bender2019(bound().read(params), particleRadius, fluidSpacing, log, sceneDirectory) {}
+
+VolumeMapBoundary_Bender2019::VolumeMapBoundary_Bender2019(const Settings& settings, Real particleRadius, Real fluidSpacing,
+                                                           const LogSink& log, const std::string& sceneDirectory)
     : particleRadius_(particleRadius),
       fluidSpacing_(fluidSpacing),
-      cellSize_(params.real("cellSize") * particleRadius),
-      requestedOffset_(params.real("surfaceOffset") < 0 ? Real(-1) : params.real("surfaceOffset") * particleRadius),
-      offsetObjects_(params.string("offsetObjects")),
+      cellSize_(settings.cellSize * particleRadius),
+      requestedOffset_(settings.surfaceOffset < 0 ? Real(-1) : settings.surfaceOffset * particleRadius),
+      offsetObjects_(settings.offsetObjects),
       log_(log),
-      cache_(params.string("cache").empty() || sceneDirectory.empty() || std::filesystem::path(params.string("cache")).is_absolute()
-                 ? params.string("cache")
-                 : (std::filesystem::path(sceneDirectory) / params.string("cache")).string(),
+      // A relative folder is the scene's.
+      cache_(settings.cache.empty() || sceneDirectory.empty() || std::filesystem::path(settings.cache).is_absolute()
+                 ? settings.cache
+                 : (std::filesystem::path(sceneDirectory) / settings.cache).string(),
              log) {}
 
 BoundaryEstimate VolumeMapBoundary_Bender2019::estimate(const std::vector<BoundaryObject>& objects,

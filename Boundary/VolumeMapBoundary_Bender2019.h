@@ -33,6 +33,9 @@
 
 namespace consph {
 
+template <class Settings>
+class BoundParams;
+
 class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
  public:
   // `sceneDirectory`: where a relative "cache" folder is.
@@ -65,6 +68,17 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   // gradient); false if x is h or more from o.
   bool virtualParticle(std::size_t o, const Vector3r& x, const CubicSplineKernel& kernel, Vector3r& position, Real& mass,
                        Vector3r& gradient) const;
+
+  // The parameters as declared (lengths in particle radii, the cache folder as written), each
+  // declared once with its place here (Simulation/ParamBinding.h); the constructor derives the
+  // members below from them.
+  struct Settings {
+    Real cellSize, surfaceOffset;
+    std::string offsetObjects, cache;
+  };
+  static const BoundParams<Settings>& bound();
+  VolumeMapBoundary_Bender2019(const Settings& settings, Real particleRadius, Real fluidSpacing, const LogSink& log,
+                               const std::string& sceneDirectory);
 
   // m: the object's mapCellSize, else the model's cellSize.
   Real cellSizeOf(const BoundaryObject& o) const { return o.mapCellSize > 0 ? o.mapCellSize * particleRadius_ : cellSize_; }

@@ -42,6 +42,13 @@ class BoundParams {
   void assign(const Params& params, Settings& settings) const {
     for (const BoundParam<Settings>& p : params_) p.assign(params, settings);
   }
+  // The values as declared, for a constructor that derives its members from them (a length in
+  // particle radii turned into metres).
+  Settings read(const Params& params) const {
+    Settings settings{};
+    assign(params, settings);
+    return settings;
+  }
 
  private:
   std::vector<BoundParam<Settings>> params_;
