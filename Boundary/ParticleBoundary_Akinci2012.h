@@ -19,6 +19,8 @@
 // corner blew every such run up. Then ("auto", the default) that object's layer moves D - d/2
 // into the solid as well, and the block starts at rest density.
 #pragma once
+#include <string>
+
 #include "Simulation/BoundaryModel.h"
 #include "Simulation/Params.h"
 

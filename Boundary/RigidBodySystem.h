@@ -6,6 +6,7 @@
 // next pressure solve.
 #pragma once
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "Simulation/BoundarySamples.h"
 #include "Simulation/MovingBodies.h"
 #include "Simulation/NeighborSearch.h"
+#include "Simulation/ParticleView.h"
 #include "Utilities/Log.h"
 
 namespace consph {
@@ -139,7 +141,7 @@ class RigidBodySystem final : public MovingBodies {
   std::vector<WrittenState> written_;
   std::vector<PoseUpdate> poses_;
   // Calls f(k, body) for every sample k of a free dynamic body.
-  template <class Samples, class F>  // BoundarySamples or a BoundaryView
+  template <class Samples, class F>  // a BoundaryView today; only its bodies are read
   void forEachFreeSample(const Samples& samples, F&& f) const;
   static constexpr Index kNone = ~Index(0);
 };

@@ -25,6 +25,7 @@
 // samples contact points on every surface of its own (docs/boundary-models.md).
 #pragma once
 #include <memory>
+#include <string>
 
 #include "Boundary/VolumeMap.h"
 #include "Boundary/VolumeMapCache.h"

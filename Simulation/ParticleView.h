@@ -4,16 +4,22 @@
 // them. What does (emitters, Z-order sorting, removal, a volume map's virtual samples rebuilt by
 // the neighbour search) happens in Simulation outside the plugins' part of the step, and the view
 // is made afresh after it every step (Simulation::step, makeContext): a view kept longer dangles.
+// A view's const-ness is shallow, as a span's is: a `const FluidView&` still writes positions,
+// velocities and pressures through its members (BodyResponse::respond writes sample velocities
+// through a `const BoundaryView&`); what may not be written is typed `std::span<const T>`.
 //
 // The seam for another backend: every particle loop runs through Utilities/ParallelFor.h over
 // index ranges, and every array it touches is one of these spans, the neighbour lists' CSR arrays
-// (Simulation/NeighborSearch.h) or a plugin's own per-particle vectors. A GPU backend would need
-// (1) these spans to point at device (or unified) memory, made by its own FluidModel storage,
-// (2) parallelFor / parallelSum / parallelChunks to launch their bodies as kernels (the bodies
-// capture by reference; they would have to capture views by value and be device-callable),
-// (3) the plugins' own scratch vectors (DFSPH's increments, IISPH's a_ii, the MLS coefficients)
-// allocated there too, and (4) the rigid-body coupling (BodyResponse), which gathers impulses per
-// body, to stay on the host behind a reduction. Nothing here assumes one.
+// (Simulation/NeighborSearch.h), a plugin's own per-particle vectors, or the fields plugins
+// register on the fluid and hold as std::vector& (DFSPH's densityBeta_ / divergenceBeta_, the
+// micropolar model's omega_, Akinci 2013's normals_, Weiler 2018's velocityChange_). A GPU
+// backend would need (1) these spans to point at device (or unified) memory, made by its own
+// FluidModel storage, (2) parallelFor / parallelSum / parallelChunks to launch their bodies as
+// kernels (the bodies capture by reference; they would have to capture views by value and be
+// device-callable), (3) the plugins' own scratch vectors and registered fields (DFSPH's
+// increments, IISPH's a_ii, the MLS coefficients) allocated there too, and (4) the rigid-body
+// coupling (BodyResponse), which gathers impulses per body, to stay on the host behind a
+// reduction. Nothing here assumes one.
 #pragma once
 #include <cstddef>
 #include <span>

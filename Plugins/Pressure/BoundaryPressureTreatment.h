@@ -28,6 +28,7 @@
 // branch per neighbour (one switch per particle).
 #pragma once
 #include <algorithm>
+#include <span>
 #include <vector>
 
 #include "Simulation/StepContext.h"

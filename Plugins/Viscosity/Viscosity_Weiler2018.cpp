@@ -1,6 +1,7 @@
 #include "Plugins/Viscosity/Viscosity_Weiler2018.h"
 
 #include <Eigen/LU>  // 3x3 inverse
+#include <span>
 
 #include "Plugins/Viscosity/ViscosityLaplacian.h"
 #include "Simulation/ParamBinding.h"
