@@ -77,6 +77,7 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
   // A chunk a smaller team leaves out must not copy an earlier call's lists.
   for (std::size_t t = 0; t < chunks; ++t) out.scratchIndices[t].clear(), out.scratchGradW[t].clear();
   const Real h2 = h * h;
+  constexpr Index kNoSelf = ~Index(0);  // no candidate has this index
   // Each chunk fills its own buffers, which are then copied into the CSR arrays by chunk (a GPU
   // backend would count, prefix-sum and fill instead).
   parallelChunks(n, [&](std::size_t t, std::size_t b, std::size_t e) {
@@ -97,7 +98,8 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
     std::array<int, 3> cell = {0, 0, 0};
     bool haveCell = false;
     std::size_t nc = 0;
-    std::vector<Real> d2;  // thread-local
+    std::vector<Real> d2;         // thread-local
+    std::vector<Index> accepted;  // thread-local: positions in the candidate buffer
     const Vector3r* sp = grid.sortedPoints();
     const Index* si = grid.sortedIndices();
     for (std::size_t i = b; i < e; ++i) {
@@ -120,6 +122,7 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
           candId[k] = si[candId[k]];
         }
         d2.resize(nc);
+        accepted.resize(nc);
       }
       const Real* cx = cand.data();
       const Real* cy = cx + nc;
@@ -130,15 +133,25 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
         const Real dx = px - cx[k], dy = py - cy[k], dz = pz - cz[k];
         d2[k] = dx * dx + dy * dy + dz * dz;
       }
-      const std::size_t before = idx.size();
+      // Compact the accepted candidates without a branch: about one in six passes, in no
+      // pattern a branch predictor can learn, and a mispredicted branch per candidate cost more
+      // than the test (perf, bench/RESULTS.md "Where the volume-map dam break's step goes").
+      // The order is the candidates' order, as before.
+      const Index self = excludeSelf ? Index(i) : kNoSelf;
+      std::size_t m = 0;
       for (std::size_t k = 0; k < nc; ++k) {
-        if (d2[k] > h2) continue;
-        const Index j = candId[k];
-        if (excludeSelf && j == i) continue;
-        idx.push_back(j);
-        grad.push_back(kernel.gradW(Vector3r(px - cx[k], py - cy[k], pz - cz[k])));
+        accepted[m] = Index(k);
+        m += std::size_t((d2[k] <= h2) & (candId[k] != self));
       }
-      out.offsets[i + 1] = Index(idx.size() - before);
+      const std::size_t before = idx.size();
+      idx.resize(before + m);
+      grad.resize(before + m);
+      for (std::size_t a = 0; a < m; ++a) {
+        const std::size_t k = accepted[a];
+        idx[before + a] = candId[k];
+        grad[before + a] = kernel.gradW(Vector3r(px - cx[k], py - cy[k], pz - cz[k]));
+      }
+      out.offsets[i + 1] = Index(m);
     }
     out.scratchIndices[t] = std::move(idx);
     out.scratchGradW[t] = std::move(grad);
