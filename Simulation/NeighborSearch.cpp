@@ -7,12 +7,88 @@
 #include "Utilities/Error.h"
 #include "Utilities/ParallelFor.h"
 
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+#include <immintrin.h>
+#define CONSPH_NEIGHBOR_AVX512 1
+#endif
+
 namespace consph {
+
+namespace {
+#if defined(CONSPH_NEIGHBOR_AVX512)
+// Which of the 16 candidates at c (the `live` ones) lie within sqrt(h2) of p. |x_i - x_j|^2 is
+// computed as GCC contracts the plain expression where it has FMA (dx^2, then + dy^2, then
+// + dz^2, fused), as the scalar path below does.
+#if CONSPH_USE_DOUBLE
+__mmask16 withinRadius(__mmask16 live, const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2) {
+  const auto half = [&](__mmask8 l, std::size_t o) {  // 8 doubles at a time
+    const __m512d dx = _mm512_sub_pd(_mm512_set1_pd(p[0]), _mm512_maskz_loadu_pd(l, cx + o));
+    const __m512d dy = _mm512_sub_pd(_mm512_set1_pd(p[1]), _mm512_maskz_loadu_pd(l, cy + o));
+    const __m512d dz = _mm512_sub_pd(_mm512_set1_pd(p[2]), _mm512_maskz_loadu_pd(l, cz + o));
+    const __m512d d2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
+    return unsigned(_mm512_mask_cmp_pd_mask(l, d2, _mm512_set1_pd(h2), _CMP_LE_OQ));
+  };
+  return __mmask16(half(__mmask8(live), 0) | half(__mmask8(live >> 8), 8) << 8);
+}
+#else
+__mmask16 withinRadius(__mmask16 live, const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2) {
+  const __m512 dx = _mm512_sub_ps(_mm512_set1_ps(p[0]), _mm512_maskz_loadu_ps(live, cx));
+  const __m512 dy = _mm512_sub_ps(_mm512_set1_ps(p[1]), _mm512_maskz_loadu_ps(live, cy));
+  const __m512 dz = _mm512_sub_ps(_mm512_set1_ps(p[2]), _mm512_maskz_loadu_ps(live, cz));
+  const __m512 d2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
+  return _mm512_mask_cmp_ps_mask(live, d2, _mm512_set1_ps(h2), _CMP_LE_OQ);
+}
+#endif
+#endif
+
+// Writes the positions k in [first, last), in ascending order, of the candidates (SoA cx, cy, cz,
+// ids) within sqrt(h2) of p whose id is not `self`, and returns how many. About one candidate in six
+// passes, in no pattern a branch predictor can learn, so there is no branch per candidate: with
+// AVX-512 the test and the compaction (vpcompressd) take 16 candidates at a time; otherwise a
+// vectorised distance loop and a branch-free scalar compaction. Both paths give the same lists
+// (perf, bench/RESULTS.md "Where the volume-map dam break's step goes").
+std::size_t acceptCandidates(const Real* cx, const Real* cy, const Real* cz, const Index* ids, std::size_t first,
+                             std::size_t last, const Vector3r& p, Real h2, Index self, Index* accepted) {
+  std::size_t k = first, m = 0;
+#if defined(CONSPH_NEIGHBOR_AVX512)
+  constexpr std::size_t kLanes = 16;
+  const __m512i selfId = _mm512_set1_epi32(int(self)), step = _mm512_set1_epi32(int(kLanes));
+  __m512i position =
+      _mm512_add_epi32(_mm512_set1_epi32(int(first)), _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
+  for (; k < last; k += kLanes) {
+    const __mmask16 live = last - k >= kLanes ? __mmask16(0xffff) : __mmask16((1u << (last - k)) - 1);
+    const __mmask16 in = withinRadius(live, cx + k, cy + k, cz + k, p, h2) &
+                         _mm512_mask_cmpneq_epi32_mask(live, _mm512_maskz_loadu_epi32(live, ids + k), selfId);
+    _mm512_mask_compressstoreu_epi32(accepted + m, in, position);
+    m += std::size_t(__builtin_popcount(unsigned(in)));
+    position = _mm512_add_epi32(position, step);
+  }
+#else
+  // Blocks of candidates: the distances vectorise, the compaction is scalar.
+  constexpr std::size_t kBlock = 64;
+  Real d2[kBlock];
+  for (; k < last; k += kBlock) {
+    const std::size_t nb = std::min(kBlock, last - k);
+#pragma omp simd
+    for (std::size_t j = 0; j < nb; ++j) {
+      const Real dx = p[0] - cx[k + j], dy = p[1] - cy[k + j], dz = p[2] - cz[k + j];
+      d2[j] = dx * dx + dy * dy + dz * dz;
+    }
+    for (std::size_t j = 0; j < nb; ++j) {
+      accepted[m] = Index(k + j);
+      m += std::size_t((d2[j] <= h2) & (ids[k + j] != self));
+    }
+  }
+#endif
+  return m;
+}
+}  // namespace
 
 void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
   keys_.resize(n);
   sortedIndex_.resize(n);
   sortedPoints_.resize(n);
+  for (auto& c : sortedCoords_) c.resize(n);
   if (n == 0) {
     dims_ = {0, 0, 0};
     cellStart_.assign(1, 0);
@@ -59,20 +135,24 @@ void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
     const Index s = cursor[keys_[i]]++;
     sortedIndex_[s] = Index(i);
     sortedPoints_[s] = points[i];
+    for (int a = 0; a < 3; ++a) sortedCoords_[a][s] = points[i][a];
   }
 }
 
-void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::size_t n,
-                        const CubicSplineKernel& kernel, bool excludeSelf, NeighborLists& out) {
+void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::size_t n, const CubicSplineKernel& kernel,
+                        bool excludeSelf, NeighborLists& out, const Real* kernelWeights) {
   const Real h = kernel.supportRadius();
   out.offsets.resize(n + 1);
+  if (kernelWeights)
+    out.kernelSums.resize(n);
+  else
+    out.kernelSums.clear();  // no stale sums from an earlier call
   out.offsets[0] = 0;
   const std::size_t chunks = parallelChunkCount();
   // Per-chunk buffers live in `out`, so steady-state steps allocate nothing.
   out.scratchIndices.resize(chunks);
   out.scratchGradW.resize(chunks);
-  out.scratchCandidates.resize(chunks);
-  out.scratchCandidateIds.resize(chunks);
+  out.scratchAccepted.resize(chunks);
   std::vector<std::size_t> chunkBegin(chunks, n);
   // A chunk a smaller team leaves out must not copy an earlier call's lists.
   for (std::size_t t = 0; t < chunks; ++t) out.scratchIndices[t].clear(), out.scratchGradW[t].clear();
@@ -82,25 +162,26 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
   // backend would count, prefix-sum and fill instead).
   parallelChunks(n, [&](std::size_t t, std::size_t b, std::size_t e) {
     // Chunks in index order: concatenating their buffers gives the CSR array.
-    // Queries are Z-sorted, so consecutive ones mostly share a cell: the candidates of the 27
-    // cells around it are gathered once into a structure-of-arrays buffer, whose distance test
-    // vectorises. grad W is evaluated while x_j is in cache. The order within a list is
-    // deterministic (cells in a fixed order, entries in cell order).
+    // The grid keeps its sorted points as a structure of arrays, and the 27 cells around a
+    // query are 9 contiguous ranges of it, so the distance test runs straight over those ranges
+    // (no candidate is copied). Queries are Z-sorted, so consecutive ones mostly share a cell and
+    // its ranges. grad W is evaluated while x_j is in cache. The order within a list is
+    // deterministic (rows in a fixed order, entries in cell order).
     chunkBegin[t] = b;
     // The buffers are moved into locals: their headers (size, capacity) then live on this
     // thread's stack, not side by side in a shared array where every push_back would fight
     // over one cache line with the other threads (false sharing).
-    std::vector<Index> idx = std::move(out.scratchIndices[t]), candId = std::move(out.scratchCandidateIds[t]);
+    std::vector<Index> idx = std::move(out.scratchIndices[t]), accepted = std::move(out.scratchAccepted[t]);
     std::vector<Vector3r> grad = std::move(out.scratchGradW[t]);
-    std::vector<Real> cand = std::move(out.scratchCandidates[t]);
     idx.clear();
     grad.clear();
     std::array<int, 3> cell = {0, 0, 0};
     bool haveCell = false;
-    std::size_t nc = 0;
-    std::vector<Real> d2;         // thread-local
-    std::vector<Index> accepted;  // thread-local: positions in the candidate buffer
-    const Vector3r* sp = grid.sortedPoints();
+    std::array<std::pair<Index, Index>, 9> ranges;
+    std::size_t rangeCount = 0;
+    const Real* sx = grid.sortedCoordinates(0);
+    const Real* sy = grid.sortedCoordinates(1);
+    const Real* sz = grid.sortedCoordinates(2);
     const Index* si = grid.sortedIndices();
     for (std::size_t i = b; i < e; ++i) {
       const Vector3r xi = queries[i];
@@ -108,55 +189,45 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
       if (!haveCell || c != cell) {
         cell = c;
         haveCell = true;
-        candId.clear();
+        rangeCount = 0;
+        std::size_t candidates = 0;
         grid.forEachCandidateRange(xi, [&](Index begin, Index end) {
-          for (Index s = begin; s < end; ++s) candId.push_back(s);
+          ranges[rangeCount++] = {begin, end};
+          candidates += end - begin;
         });
-        nc = candId.size();
-        cand.resize(3 * nc);
-        for (std::size_t k = 0; k < nc; ++k) {
-          const Vector3r& q = sp[candId[k]];
-          cand[k] = q[0];
-          cand[nc + k] = q[1];
-          cand[2 * nc + k] = q[2];
-          candId[k] = si[candId[k]];
-        }
-        d2.resize(nc);
-        accepted.resize(nc);
+        if (accepted.size() < candidates) accepted.resize(candidates);
       }
-      const Real* cx = cand.data();
-      const Real* cy = cx + nc;
-      const Real* cz = cy + nc;
-      const Real px = xi[0], py = xi[1], pz = xi[2];
-#pragma omp simd
-      for (std::size_t k = 0; k < nc; ++k) {
-        const Real dx = px - cx[k], dy = py - cy[k], dz = pz - cz[k];
-        d2[k] = dx * dx + dy * dy + dz * dz;
-      }
-      // Compact the accepted candidates without a branch: about one in six passes, in no
-      // pattern a branch predictor can learn, and a mispredicted branch per candidate cost more
-      // than the test (perf, bench/RESULTS.md "Where the volume-map dam break's step goes").
-      // The order is the candidates' order, as before.
       const Index self = excludeSelf ? Index(i) : kNoSelf;
       std::size_t m = 0;
-      for (std::size_t k = 0; k < nc; ++k) {
-        accepted[m] = Index(k);
-        m += std::size_t((d2[k] <= h2) & (candId[k] != self));
-      }
+      for (std::size_t r = 0; r < rangeCount; ++r)
+        m += acceptCandidates(sx, sy, sz, si, ranges[r].first, ranges[r].second, xi, h2, self, accepted.data() + m);
       const std::size_t before = idx.size();
       idx.resize(before + m);
       grad.resize(before + m);
-      for (std::size_t a = 0; a < m; ++a) {
-        const std::size_t k = accepted[a];
-        idx[before + a] = candId[k];
-        grad[before + a] = kernel.gradW(Vector3r(px - cx[k], py - cy[k], pz - cz[k]));
+      const Real px = xi[0], py = xi[1], pz = xi[2];
+      if (kernelWeights) {
+        // The same sum, in the same order, as a loop over the finished list would give.
+        Real sum = excludeSelf ? kernelWeights[i] * kernel.W0() : Real(0);
+        for (std::size_t a = 0; a < m; ++a) {
+          const std::size_t s = accepted[a];
+          const Vector3r x(px - sx[s], py - sy[s], pz - sz[s]);
+          idx[before + a] = si[s];
+          grad[before + a] = kernel.gradW(x);
+          sum += kernelWeights[si[s]] * kernel.W(x);
+        }
+        out.kernelSums[i] = sum;
+      } else {
+        for (std::size_t a = 0; a < m; ++a) {
+          const std::size_t s = accepted[a];
+          idx[before + a] = si[s];
+          grad[before + a] = kernel.gradW(Vector3r(px - sx[s], py - sy[s], pz - sz[s]));
+        }
       }
       out.offsets[i + 1] = Index(m);
     }
     out.scratchIndices[t] = std::move(idx);
     out.scratchGradW[t] = std::move(grad);
-    out.scratchCandidates[t] = std::move(cand);
-    out.scratchCandidateIds[t] = std::move(candId);
+    out.scratchAccepted[t] = std::move(accepted);
   });
   for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
   out.indices.resize(out.offsets[n]);

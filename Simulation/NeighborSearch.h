@@ -19,11 +19,14 @@ struct NeighborLists {
   std::vector<Index> offsets;    // (n + 1)
   std::vector<Index> indices;    // (number of pairs)
   std::vector<Vector3r> gradW;   // (number of pairs) grad W(x_i - x_j)
+  // (n) only when the build was given kernel weights w, else empty: sum_j w_j W(x_i - x_j) over
+  // the listed j, after w_i W(0) for a search of a set against itself (a density, Eq. 14's
+  // fluid part, with w = m).
+  std::vector<Real> kernelSums;
   // Per-thread scratch of the build, kept so that steady-state steps allocate nothing.
   std::vector<std::vector<Index>> scratchIndices;
   std::vector<std::vector<Vector3r>> scratchGradW;
-  std::vector<std::vector<Real>> scratchCandidates;  // per thread: SoA x, y, z of one cell's candidates
-  std::vector<std::vector<Index>> scratchCandidateIds;
+  std::vector<std::vector<Index>> scratchAccepted;  // per thread: the accepted candidates of one query
 
   std::size_t queryCount() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   Index begin(std::size_t i) const { return offsets[i]; }
@@ -75,6 +78,9 @@ class PointGrid {
   std::array<int, 3> cellOf(const Vector3r& p) const { return {cellCoord(p[0], 0), cellCoord(p[1], 1), cellCoord(p[2], 2)}; }
   const Vector3r* sortedPoints() const { return sortedPoints_.data(); }
   const Index* sortedIndices() const { return sortedIndex_.data(); }
+  // The sorted positions' coordinates along axis a (structure of arrays), for vectorised
+  // distance tests straight over a candidate range.
+  const Real* sortedCoordinates(int a) const { return sortedCoords_[a].data(); }
 
   static constexpr std::size_t kMaxCellsPerPoint = 64;
 
@@ -92,14 +98,17 @@ class PointGrid {
   std::vector<Index> cellStart_;       // (cells + 1)
   std::vector<Index> sortedIndex_;     // (n) point index in cell order
   std::vector<Vector3r> sortedPoints_; // (n) positions in cell order, for contiguous reads
+  std::array<std::vector<Real>, 3> sortedCoords_;  // (3 x n) the same, x, y and z apart
   std::vector<Index> keys_;            // (n) scratch
 };
 
 // Builds neighbour lists of `queries` against the points of `grid` within the kernel's support
 // radius; `excludeSelf` drops j == i (query set == grid set).
 // The grid keeps its own copy of the points it was built over, for the cached kernel gradients.
-void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::size_t nQueries,
-                        const CubicSplineKernel& kernel, bool excludeSelf, NeighborLists& out);
+// With `kernelWeights` (one per grid point, by original index) it also fills out.kernelSums while
+// each x_j is in cache, which saves the densities a pass over the lists.
+void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::size_t nQueries, const CubicSplineKernel& kernel,
+                        bool excludeSelf, NeighborLists& out, const Real* kernelWeights = nullptr);
 
 // A permutation that orders the points along a Z-order (Morton) curve of cells of `cellSize`,
 // so that neighbours in space are neighbours in memory.

@@ -479,7 +479,8 @@ void Simulation::findNeighbors() {
     f.fields().permuteSorted(order);
   }
   fluidGrid_.build(f.positions.data(), f.size(), kernel_.supportRadius());
-  buildNeighborLists(fluidGrid_, f.positions.data(), f.size(), kernel_, true, fluidNeighbors_);
+  // The fluid part of the densities comes with the lists (computeDensities).
+  buildNeighborLists(fluidGrid_, f.positions.data(), f.size(), kernel_, true, fluidNeighbors_, f.masses.data());
   boundaryModel_->findNeighbors(f, kernel_, boundaryNeighbors_);
 }
 
@@ -496,11 +497,8 @@ void Simulation::computeDensities() {
   };
   const DensityError error = parallelReduce(f.size(), DensityError{}, join, [&](std::size_t i, DensityError& acc) {
     const Vector3r xi = f.positions[i];
-    Real rho = f.masses[i] * kernel_.W0();
-    for (Index e = fluidNeighbors_.begin(i); e < fluidNeighbors_.end(i); ++e) {
-      const Index j = fluidNeighbors_.indices[e];
-      rho += f.masses[j] * kernel_.W(xi - f.positions[j]);
-    }
+    // m_i W(0) + sum_j m_j W_ij, summed by the neighbour search (findNeighbors).
+    Real rho = fluidNeighbors_.kernelSums[i];
     for (Index e = boundaryNeighbors_.begin(i); e < boundaryNeighbors_.end(i); ++e) {
       const Index k = boundaryNeighbors_.indices[e];
       rho += b.masses[k] * kernel_.W(xi - b.positions[k]);

@@ -95,6 +95,31 @@ TEST(NeighborSearch, ZOrderIsAPermutationAndSearchStillExact) {
   expectBruteForce(sorted, sorted, lists, kernel, true);
 }
 
+// With kernel weights the build also sums w_j W_ij over each list (after w_i W(0) for a self
+// search): the fluid part of the density, Eq. (14), that computeDensities reads. The sum must be
+// the one a loop over the finished list gives (to round-off: the two may contract to FMA
+// differently), and a later build without weights must not leave the old sums behind.
+TEST(NeighborSearch, KernelSumsAreTheListsWeightedKernelSums) {
+  const CubicSplineKernel kernel(Real(0.1));
+  const auto points = randomPoints(3000, 10, Real(0.5));
+  std::vector<Real> weights(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) weights[i] = Real(1) + Real(i % 7) / Real(10);
+  PointGrid grid;
+  grid.build(points.data(), points.size(), kernel.supportRadius());
+  for (bool self : {true, false}) {
+    NeighborLists lists;
+    buildNeighborLists(grid, points.data(), points.size(), kernel, self, lists, weights.data());
+    ASSERT_EQ(lists.kernelSums.size(), points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      Real sum = self ? weights[i] * kernel.W0() : Real(0);
+      for (Index e = lists.begin(i); e < lists.end(i); ++e) sum += weights[lists.indices[e]] * kernel.W(points[i] - points[lists.indices[e]]);
+      ASSERT_NEAR(lists.kernelSums[i], sum, (sizeof(Real) == 8 ? 1e-12 : 1e-5) * sum) << "query " << i << (self ? " (self search)" : "");
+    }
+    buildNeighborLists(grid, points.data(), points.size(), kernel, self, lists);
+    EXPECT_TRUE(lists.kernelSums.empty());
+  }
+}
+
 TEST(NeighborSearch, TransposeReversesEveryPair) {
   const CubicSplineKernel kernel(Real(0.1));
   const auto targets = randomPoints(800, 7, Real(0.3));
