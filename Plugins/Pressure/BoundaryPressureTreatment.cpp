@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "Utilities/ParallelFor.h"
@@ -15,7 +16,9 @@ void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
   invRho0Squared_ = Real(1) / (f.density0() * f.density0());
   const std::size_t n = f.size();
   gradientSum_.resize(n);
-  if (classicalDiagonal_) diagonalTerm_.resize(n);
+  diagonalTerm_.resize(n);
+  // The squeeze of the consistent diagonal (diagonalTerm), on sampled walls only.
+  const bool squeeze = !classicalDiagonal_ && !ctx.implicitBoundary;
   parallelFor(n, [&](std::size_t i) {
     Vector3r g = Vector3r::Zero();
     Real squares = 0;
@@ -25,9 +28,33 @@ void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
       squares += mk * bn.gradW[e].squaredNorm();
     }
     gradientSum_[i] = g;
-    if (classicalDiagonal_) diagonalTerm_[i] = f.masses[i] * squares;  // Eq. (15)
+    const Real weight = classicalDiagonal_ ? Real(1) : squeeze ? squeezeOf(ctx, i, g) : Real(0);
+    diagonalTerm_[i] = weight * f.masses[i] * squares;  // Eq. (15), weighted
   });
   if (extrapolates()) computeMlsCoefficients(ctx);
+}
+
+Real BoundaryPressureTreatment::squeezeOf(const StepContext& ctx, std::size_t i, const Vector3r& g) const {
+  // g_i split by boundary object: 1 - |sum_o g_o| / sum_o |g_o|.
+  const BoundaryView& b = ctx.boundary;
+  const NeighborLists& bn = ctx.boundaryNeighbors;
+  std::array<Index, kSqueezeObjects> object;
+  std::array<Vector3r, kSqueezeObjects> objectGradient;
+  int objects = 0;
+  for (Index e = bn.begin(i); e < bn.end(i); ++e) {
+    const Index k = bn.indices[e];
+    int o = 0;
+    while (o < objects && object[o] != b.bodies[k]) ++o;
+    if (o == objects) {
+      if (objects < kSqueezeObjects) object[objects] = b.bodies[k], objectGradient[objects++] = Vector3r::Zero();
+      else o = objects - 1;
+    }
+    objectGradient[o] += b.masses[k] * bn.gradW[e];
+  }
+  if (objects < 2) return 0;
+  Real lengths = 0;
+  for (int o = 0; o < objects; ++o) lengths += objectGradient[o].norm();
+  return lengths > 0 ? std::clamp(Real(1) - g.norm() / lengths, Real(0), Real(1)) : Real(0);
 }
 
 void BoundaryPressureTreatment::computeMlsCoefficients(const StepContext& ctx) {

@@ -808,6 +808,14 @@ TEST(RigidBodies, SinkingBoxRestsOnTheFloor) { expectSinkingBoxRests(0, 0); }
 // and lands the box on its side at (1, 0) (docs/rigid-bodies.md).
 TEST(RigidBodies, AnOffCentreSinkingBoxRestsOnTheFloor) { expectSinkingBoxRests(0.003, 0.001); }
 
+// The same closing gap with the paper's consistent treatment (Eq. 32's diagonal), which threw the
+// trapped particle at 132 m/s and landed the box on its side: with the squeeze term of
+// BoundaryPressureTreatment::diagonalTerm the box lands face down and rests at each of six
+// offsets of up to 7 mm, fluid at most 4.8-7.1 m/s (measured 2026-12-05, double).
+TEST(RigidBodies, AnOffCentreSinkingBoxRestsOnTheFloorWithTheConsistentTreatment) {
+  expectSinkingBoxRests(0.003, 0.001, "Akinci2012", 2.0, 0.025, {{"boundaryPressure", "consistent"}});
+}
+
 // The same box at the default step (no maxTimeStep: 4.8-5 ms here), where a film of fluid
 // under a box landing flat is squeezed the hardest. With the bodies moving only after the solve
 // (DFSPH bodyCoupling "explicit") the film carried 0.47 MPa, threw the box up at 1.9 m/s and a
