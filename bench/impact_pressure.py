@@ -151,8 +151,9 @@ def main():
     ap.add_argument("--halvings", type=int, default=1, help="how often the middle resolution's step is halved")
     ap.add_argument("--radii", help="comma-separated particle radii (default 0.01,0.005,0.0025)")
     ap.add_argument("--build", default="build", help="build folder whose python/ module to run")
-    ap.add_argument("--density-relaxation", default="resolution", choices=["resolution", "step"],
-                    help="DFSPH's densityRelaxation (step: the scene default)")
+    ap.add_argument("--density-relaxation", default="resolution", choices=["auto", "resolution", "step"],
+                    help="DFSPH's densityRelaxation (auto: the scene default, resolution with these Akinci walls; "
+                         "step: the default before 2026-12-05)")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:

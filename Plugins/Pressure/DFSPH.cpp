@@ -41,7 +41,7 @@ const BoundParams<DFSPH::Settings>& DFSPH::bound() {
       bind({"warmStart", ParamType::Bool, true, "start both solves from the previous step's pressures"}, &Settings::warmStart),
       bind(overlapReliefParameter(), &Settings::overlapReliefSpeed),
       bindChoice<Settings>(densityRelaxationParameter(),
-                           [](Settings& s, const std::string& v) { s.relaxOverResolutionStep = v == "resolution"; }),
+                           [](Settings& s, const std::string& v) { s.densityRelaxation = densityRelaxationOf(v); }),
   };
   return table;
 }
@@ -80,7 +80,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
   const Real rho0 = f.density0(), dt = ctx.dt;
   const std::size_t n = f.size();
   const Real maxDrop = maxDensityDrop(ctx, rho0, settings_.overlapReliefSpeed);
-  const Real relaxationTime = settings_.relaxOverResolutionStep ? ctx.densityRelaxationTime : Real(0);
+  const Real relaxationTime = densityRelaxationTime(settings_.densityRelaxation, ctx);
   const double errorSum = parallelSum<double>(n, [&](std::size_t i) {
     const Real drho = densityRate(ctx, i);
     Real s;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "Plugins/Pressure/BoundaryPressureTreatment.h"
+#include "Plugins/Pressure/SphPressureTerms.h"
 #include "Simulation/Params.h"
 #include "Simulation/PressureSolver.h"
 
@@ -32,7 +33,7 @@ class DFSPH final : public PressureSolver {
     int minIterations, maxIterations, maxIterationsDivergence;
     bool divergenceSolver, warmStart;
     Real overlapReliefSpeed;  // m/s, 0: off
-    bool relaxOverResolutionStep;  // densityRelaxation "resolution" (driftTarget)
+    DensityRelaxation densityRelaxation;  // driftTarget's relaxation time (densityRelaxationTime)
     enum class BodyCoupling { Auto, Iterated, Explicit } bodyCoupling;  // Simulation/BodyResponse.h
   } settings_;
   using BodyCoupling = Settings::BodyCoupling;

@@ -25,7 +25,7 @@ const BoundParams<IISPH::Settings>& IISPH::bound() {
       bind({"warmStart", ParamType::Bool, true, "start from half of the previous step's pressure"}, &Settings::warmStart),
       bind(overlapReliefParameter(), &Settings::overlapReliefSpeed),
       bindChoice<Settings>(densityRelaxationParameter(),
-                           [](Settings& s, const std::string& v) { s.relaxOverResolutionStep = v == "resolution"; }),
+                           [](Settings& s, const std::string& v) { s.densityRelaxation = densityRelaxationOf(v); }),
   };
   return table;
 }
@@ -44,7 +44,7 @@ void IISPH::prepare(StepContext& ctx) {
   const FluidView& f = ctx.fluid;
   const Real rho0 = f.density0(), dt = ctx.dt, omega = settings_.omega;
   const Real start = settings_.warmStart ? Real(0.5) : Real(0);
-  const Real relaxationTime = settings_.relaxOverResolutionStep ? ctx.densityRelaxationTime : Real(0);
+  const Real relaxationTime = densityRelaxationTime(settings_.densityRelaxation, ctx);
   const Real maxDrop = maxDensityDrop(ctx, rho0, settings_.overlapReliefSpeed);
   const std::size_t n = f.size();
   source_.resize(n);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "Plugins/Pressure/BoundaryPressureTreatment.h"
+#include "Plugins/Pressure/SphPressureTerms.h"
 #include "Simulation/Params.h"
 #include "Simulation/PressureSolver.h"
 
@@ -33,7 +34,7 @@ class IISPH final : public PressureSolver {
     Real omega;      // Jacobi relaxation
     bool warmStart;  // start from half of the previous step's pressure (Ihmsen et al. 2014)
     Real overlapReliefSpeed;  // m/s, 0: off (maxDensityDrop)
-    bool relaxOverResolutionStep;  // densityRelaxation "resolution" (driftTarget)
+    DensityRelaxation densityRelaxation;  // driftTarget's relaxation time (densityRelaxationTime)
   } settings_;
   // The parameters, each declared once with its place in settings_ (Simulation/ParamBinding.h).
   static const BoundParams<Settings>& bound();

@@ -3,6 +3,7 @@
 #pragma once
 #include <algorithm>
 #include <limits>
+#include <string>
 
 #include "Simulation/Params.h"
 #include "Simulation/StepContext.h"
@@ -23,18 +24,29 @@ inline Real densityRate(const StepContext& ctx, std::size_t i) {
   return rate;
 }
 
-// The parameter both implicit solvers declare for how fast a density excess is removed.
+// How fast the implicit solvers remove a density excess a step starts with (driftTarget).
+enum class DensityRelaxation { Auto, Step, Resolution };
+
+// The parameter both implicit solvers declare for it.
 inline ParamSpec densityRelaxationParameter() {
-  // "step" stays the default until a moving body's squeeze is understood: with "resolution" the
-  // box of the test RigidBodies.SinkingBoxRestsOnTheFloor pressed a fluid particle through the
-  // floor at t = 0.29 s (measured 2026-12-02; relaxing only up to 1 % excess, or nowhere near a
-  // moving sample, did not stop it).
-  return {"densityRelaxation", ParamType::String, "step",
+  return {"densityRelaxation", ParamType::String, "auto",
           "how fast a density excess a step starts with is removed: step (within every step taken, the classical "
-          "form; its correction velocity grows as 1 / dt when the step is lowered by hand) or resolution (over the "
-          "step the resolution calls for, StepContext::densityRelaxationTime, so the motion converges as the step "
-          "is lowered; not yet with dynamic bodies landing on walls)",
-          -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"resolution", "step"}};
+          "form; its correction velocity grows as 1 / dt when the step is lowered by hand), resolution (over the step "
+          "the resolution calls for, StepContext::densityRelaxationTime, so the motion converges as the step is "
+          "lowered), or auto: resolution with sampled walls (Akinci2012), step with volume maps, where a box landing "
+          "on the floor with resolution threw a particle through it (docs/boundary-pressure.md)",
+          -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), {"auto", "resolution", "step"}};
+}
+inline DensityRelaxation densityRelaxationOf(const std::string& v) {
+  return v == "resolution" ? DensityRelaxation::Resolution : v == "step" ? DensityRelaxation::Step : DensityRelaxation::Auto;
+}
+
+// The time T over which this step's density excess is removed: the resolution's step, or 0 for
+// within the step ("auto" resolved by the boundary model).
+inline Real densityRelaxationTime(DensityRelaxation mode, const StepContext& ctx) {
+  const bool overResolutionStep =
+      mode == DensityRelaxation::Resolution || (mode == DensityRelaxation::Auto && !ctx.implicitBoundary);
+  return overResolutionStep ? ctx.densityRelaxationTime : Real(0);
 }
 
 // The parameter both implicit solvers declare for pushing an overlap apart at a bounded speed.
