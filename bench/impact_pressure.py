@@ -14,6 +14,11 @@ Per run (solver DFSPH, Akinci walls, one treatment, one particle radius, one max
              with the step;
   impulse    the integral of the low probe's pressure over [arrival, arrival + 0.1 s], / (rho0 g H s):
              the impact peak and its decay to about 0.8 rho0 g H, before the run-up falls back;
+  impulse 0.28-0.40 s
+             the same integral over a fixed window that holds the whole first impact at every r and
+             dt (the arrivals are 0.307-0.326 s): a window that starts at the arrival moves with the
+             thin leading tongue, whose arrival depends on r, and its end then cuts the decay at
+             about 0.8 rho0 g H per second of shift (10 ms: 0.008), which the fixed window does not;
   peak       the low probe's maximum over the same window, raw (every step) and averaged over a
              fixed 2 ms and 5 ms (a sensor's response, the same at every r and dt; 5 ms is under a
              third of the 17 ms the front takes to cross the probe's 5 cm patch), / rho0 g H. The
@@ -47,6 +52,7 @@ PROBE_RADIUS, END = 0.025, 0.6
 # The arrival's cumulative impulse, rho0 g H s; the impact window, s; the averages the peak is read
 # over, s (SHORT also for the noise).
 ARRIVAL_IMPULSE, IMPACT_WINDOW, SENSOR_AVERAGE, SHORT_AVERAGE = 0.002, 0.1, 0.005, 0.002
+FIXED_WINDOW = (0.28, 0.40)  # s, the fixed-window impulse
 TREATMENTS = ["consistent", "mirroring", "extrapolation"]
 
 
@@ -115,6 +121,7 @@ def measure(treatment, r, max_dt, threads, relaxation="resolution"):
         "peak_smooth": float(smooth[window].max() / ref),
         "peak_short": float(short[window].max() / ref),
         "impulse": impulse / ref,
+        "impulse_fixed": float(np.sum((p * dt)[(t > FIXED_WINDOW[0]) & (t <= FIXED_WINDOW[1])]) / ref),
         "noise": float(np.sqrt(np.mean((p[window] - short[window]) ** 2)) / ref),
         "late": float(np.mean(q[(t >= 0.55)]) / ref),
         "mean_dt": float((t[-1] - t[0]) / (len(t) - 1)),
@@ -181,20 +188,20 @@ def main():
         out["key"] = (t, r, 0.0 if max_dt == 0.0 else max_dt)
         results.append(out)
         print(f"{t} r={r} dt<={max_dt}: " + ", ".join(f"{k} {out[k]:.4g}" for k in
-              ("arrival", "peak", "peak_short", "peak_smooth", "impulse", "noise", "late", "wall") if k in out), flush=True)
+              ("arrival", "peak", "peak_short", "peak_smooth", "impulse", "impulse_fixed", "noise", "late", "wall") if k in out), flush=True)
     precision = next((x["precision"] for x in results if "precision" in x), "?")
     lines = [f"Machine: {machine_line()}; {args.threads} thread(s); {precision}; DFSPH, Akinci walls, probes of radius "
              f"{PROBE_RADIUS} m on the far wall, densityRelaxation {args.density_relaxation}, p / rho0 g H (H = {H} m), "
              "impulse / (rho0 g H s).", "",
              "| treatment | r, m | max dt, s | mean dt, s | arrival, s | peak raw | peak 2 ms | peak 5 ms | "
-             "impulse 0.1 s | noise | high probe 0.55-0.6 s | wall s |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "impulse 0.1 s | impulse 0.28-0.40 s | noise | high probe 0.55-0.6 s | wall s |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for x in results:
         t = x["key"][0]
         if "peak" not in x:
-            lines.append(f"| {t} | {x['r']} | {x['max_dt'] or 'default'} | {x.get('error', '?')} | | | | | | | | |")
+            lines.append(f"| {t} | {x['r']} | {x['max_dt'] or 'default'} | {x.get('error', '?')} | | | | | | | | | |")
             continue
         lines.append(f"| {t} | {x['r']} | {x['max_dt'] or 'default'} | {x['mean_dt']:.2e} | {x['arrival']:.4f} | "
-                     f"{x['peak']:.2f} | {x['peak_short']:.2f} | {x['peak_smooth']:.2f} | {x['impulse']:.4f} | {x['noise']:.3f} | {x['late']:.3f} | "
+                     f"{x['peak']:.2f} | {x['peak_short']:.2f} | {x['peak_smooth']:.2f} | {x['impulse']:.4f} | {x['impulse_fixed']:.4f} | {x['noise']:.3f} | {x['late']:.3f} | "
                      f"{x['wall']:.0f} |")
     # Convergence: successive differences as r halves, per treatment and quantity.
     lines += ["", "| treatment | quantity | " + " | ".join(f"r {a} -> {b}" for a, b in zip(radii, radii[1:])) + " |",
@@ -203,7 +210,7 @@ def main():
         series = [next((x for x in results if x["key"] == (t, r, 0.0) and "peak" in x), None) for r in radii]
         if None in series:
             continue
-        for q in ("arrival", "peak_smooth", "impulse", "late"):
+        for q in ("arrival", "peak_smooth", "impulse", "impulse_fixed", "late"):
             lines.append(f"| {t} | {q} | " + " | ".join(f"{b[q] - a[q]:+.4f}" for a, b in zip(series, series[1:])) + " |")
     # The step: successive differences as the middle resolution's step halves.
     if len(radii) > 1 and any(x["key"][2] for x in results):
@@ -215,7 +222,7 @@ def main():
             series.sort(key=lambda x: -(x["key"][2] or 1.0))
             if len(series) != args.halvings + 1:
                 continue
-            for q in ("arrival", "peak_smooth", "impulse", "late"):
+            for q in ("arrival", "peak_smooth", "impulse", "impulse_fixed", "late"):
                 lines.append(f"| {t} | {q} | " + " | ".join(f"{b[q] - a[q]:+.4f}" for a, b in zip(series, series[1:])) + " |")
     table = "\n".join(lines) + "\n"
     print(table)
