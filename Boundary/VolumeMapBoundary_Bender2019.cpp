@@ -7,12 +7,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/AxisAlignedBox.h"
 #include "Utilities/ParallelFor.h"
 #include "Utilities/Timer.h"
+#include "Utilities/TriangleMesh.h"
 
 namespace consph {
 
@@ -26,6 +29,40 @@ const PluginRegistration<BoundaryModel> registration{
       const Real spacing = c.particleSpacing > 0 ? c.particleSpacing : Real(1.8566) * c.particleRadius;
       return std::make_unique<VolumeMapBoundary_Bender2019>(p, c.particleRadius, spacing, c.log, c.sceneDirectory);
     }};
+}  // namespace
+
+namespace {
+// The solid around a box container as six convex slabs `thickness` thick that do not overlap:
+// floor and lid span the whole outline, the x walls stand between them, the z walls between
+// those. Each is a (not inverted) box object of its own; the union is the container's shell.
+std::vector<BoundaryObject> containerWalls(const BoundaryObject& o, Real thickness) {
+  const Vector3r lo = o.boxMin, hi = o.boxMax, t = Vector3r::Constant(thickness);
+  const Vector3r outerLo = lo - t, outerHi = hi + t;
+  const struct {
+    const char* name;
+    Vector3r min, max;
+  } slabs[6] = {
+      {"floor (-y)", outerLo, Vector3r(outerHi[0], lo[1], outerHi[2])},
+      {"lid (+y)", Vector3r(outerLo[0], hi[1], outerLo[2]), outerHi},
+      {"wall -x", Vector3r(outerLo[0], lo[1], outerLo[2]), Vector3r(lo[0], hi[1], outerHi[2])},
+      {"wall +x", Vector3r(hi[0], lo[1], outerLo[2]), Vector3r(outerHi[0], hi[1], outerHi[2])},
+      {"wall -z", Vector3r(lo[0], lo[1], outerLo[2]), Vector3r(hi[0], hi[1], lo[2])},
+      {"wall +z", Vector3r(lo[0], lo[1], hi[2]), Vector3r(hi[0], hi[1], outerHi[2])},
+  };
+  std::vector<BoundaryObject> walls;
+  for (const auto& slab : slabs) {
+    BoundaryObject w = o;
+    w.name = (o.name.empty() ? o.path : o.name) + ", " + slab.name;
+    w.path = o.path + " (" + slab.name + ")";
+    w.inverted = false;
+    w.isBox = true;
+    w.boxMin = slab.min;
+    w.boxMax = slab.max;
+    w.mesh = makeBoxMesh(slab.min, slab.max, false);
+    walls.push_back(std::move(w));
+  }
+  return walls;
+}
 }  // namespace
 
 const BoundParams<VolumeMapBoundary_Bender2019::Settings>& VolumeMapBoundary_Bender2019::bound() {
@@ -52,6 +89,17 @@ const BoundParams<VolumeMapBoundary_Bender2019::Settings>& VolumeMapBoundary_Ben
       bind({"cache", ParamType::String, "cache",
             "folder that keeps built maps for the next run (relative: to the scene file's folder); \"\": no cache"},
            &Settings::cache),
+      bind({"containers",
+            ParamType::String,
+            "walls",
+            "a box container (an axis-aligned box with inverted: true): walls (one map per wall, a convex slab each: a "
+            "particle where walls meet gets one virtual particle per wall) or whole (one map for the box, as published: a "
+            "corner particle gets every wall's volume at the nearest wall's distance, and a resting tank's corners "
+            "never come to rest)",
+            -std::numeric_limits<double>::infinity(),
+            std::numeric_limits<double>::infinity(),
+            {"walls", "whole"}},
+           &Settings::containers),
   };
   return table;
 }
@@ -69,6 +117,7 @@ VolumeMapBoundary_Bender2019::VolumeMapBoundary_Bender2019(const Settings& setti
       cellSize_(settings.cellSize * particleRadius),
       requestedOffset_(settings.surfaceOffset < 0 ? Real(-1) : settings.surfaceOffset * particleRadius),
       offsetObjects_(settings.offsetObjects),
+      splitContainers_(settings.containers == "walls"),
       log_(log),
       // A relative folder is the scene's.
       cache_(settings.cache.empty() || sceneDirectory.empty() || std::filesystem::path(settings.cache).is_absolute()
@@ -76,21 +125,43 @@ VolumeMapBoundary_Bender2019::VolumeMapBoundary_Bender2019(const Settings& setti
                  : (std::filesystem::path(sceneDirectory) / settings.cache).string(),
              log) {}
 
+bool VolumeMapBoundary_Bender2019::splitsIntoWalls(const BoundaryObject& o) const { return splitContainers_ && o.isBox && o.inverted; }
+
+std::vector<BoundaryObject> VolumeMapBoundary_Bender2019::wallsOf(const BoundaryObject& o, const CubicSplineKernel& kernel,
+                                                                  Real surfaceOffset) const {
+  // The surface offset (into the solid) and the object's mapThickness (into the fluid) move the
+  // walls' inner faces, not the slabs' ends: the box grows by their difference and the slabs
+  // are built from it with neither (moved as a map's offset, each slab's end would move too and
+  // open a slot along every edge where two walls meet).
+  BoundaryObject grown = o;
+  const Vector3r shift = Vector3r::Constant(surfaceOffset - o.mapThickness);
+  grown.boxMin = o.boxMin - shift;
+  grown.boxMax = o.boxMax + shift;
+  // Thick enough that no support ball of a fluid particle reaches through a wall to its back.
+  std::vector<BoundaryObject> walls = containerWalls(grown, kernel.supportRadius() + 3 * cellSizeOf(o));
+  for (BoundaryObject& w : walls) w.mapThickness = 0;
+  return walls;
+}
+
 BoundaryEstimate VolumeMapBoundary_Bender2019::estimate(const std::vector<BoundaryObject>& objects,
                                                       const CubicSplineKernel& kernel) const {
   // VolumeMap's grid: the bounding box grown by its band (2h + 3 cells), the largest surface
   // offset (4r), the thickness and a cell, one node per cell corner; a distance and a volume per
   // node. An upper bound: only the bricks that reach the band are stored.
   BoundaryEstimate e;
-  for (const BoundaryObject& o : objects) {
-    const double cell = double(cellSizeOf(o)),
-                 margin = 2 * double(kernel.supportRadius()) + 4 * cell + 4 * double(particleRadius_) + double(o.mapThickness);
-    Vector3r lo, hi;
-    o.mesh.boundingBox(lo, hi);
-    double nodes = 1;
-    for (int a = 0; a < 3; ++a) nodes *= std::ceil((double(hi[a] - lo[a]) + 2 * margin) / cell) + 1;
-    e.cells += nodes;
-    e.bytes += nodes * 2 * sizeof(Real);
+  for (const BoundaryObject& object : objects) {
+    const std::vector<BoundaryObject> pieces =
+        splitsIntoWalls(object) ? wallsOf(object, kernel, 4 * particleRadius_) : std::vector<BoundaryObject>{object};
+    for (const BoundaryObject& o : pieces) {
+      const double cell = double(cellSizeOf(o)),
+                   margin = 2 * double(kernel.supportRadius()) + 4 * cell + 4 * double(particleRadius_) + double(o.mapThickness);
+      Vector3r lo, hi;
+      o.mesh.boundingBox(lo, hi);
+      double nodes = 1;
+      for (int a = 0; a < 3; ++a) nodes *= std::ceil((double(hi[a] - lo[a]) + 2 * margin) / cell) + 1;
+      e.cells += nodes;
+      e.bytes += nodes * 2 * sizeof(Real);
+    }
   }
   return e;
 }
@@ -101,39 +172,57 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
   kernel_ = kernel;
   Timer timer;
   std::size_t nodes = 0;
-  maps_.clear();
   const Real offset = requestedOffset_ >= 0
                           ? requestedOffset_
                           : std::max(Real(0), VolumeMap::restDistance(kernel, particleRadius_, fluidSpacing_) -
                                                   Real(0.5) * fluidSpacing_);
   moving_.assign(objects.size(), 0);
   poses_.assign(objects.size(), ObjectPose());
+  pieces_.clear();
+  firstPiece_.assign(objects.size(), 0);
   std::string offsetNames;
   for (std::size_t b = 0; b < objects.size(); ++b) {
     const BoundaryObject& o = objects[b];
     moving_[b] = o.motion != BodyMotion::Static;
     // A moving body's displaced volume is its buoyancy: its surface always moves ("auto").
     const bool always = offsetObjects_ == "all" || (offsetObjects_ == "auto" && moving_[b]);
-    auto map = cache_.obtain(o, kernel, cellSizeOf(o), always ? offset : Real(0));
+    // The object's maps with its surface moved `shift` into the solid: one, or a box
+    // container's six walls.
+    auto build = [&](Real shift) {
+      std::vector<std::unique_ptr<VolumeMap>> maps;
+      if (splitsIntoWalls(o))
+        for (const BoundaryObject& wall : wallsOf(o, kernel, shift)) maps.push_back(cache_.obtain(wall, kernel, cellSizeOf(o), 0));
+      else
+        maps.push_back(cache_.obtain(o, kernel, cellSizeOf(o), shift));
+      return maps;
+    };
+    std::vector<std::unique_ptr<VolumeMap>> maps = build(always ? offset : Real(0));
     // "auto": the initial fluid reaches the surface (a particle within 0.95 d: a block drawn up
     // to it, whose outer layer starts d/2 from it, well inside the resting distance).
     bool touched = false;
     if (offsetObjects_ == "auto" && !always && offset > 0) {
-      const VolumeMap& m = *map;
       const Real reach = Real(0.95) * fluidSpacing_;
-      touched = parallelAny(fluid.size(), [&](std::size_t i) { return m.distance(fluid.positions[i]) < reach; });
-      if (touched) map = cache_.obtain(o, kernel, cellSizeOf(o), offset);
+      for (const auto& map : maps) {
+        const VolumeMap& m = *map;
+        touched = touched || parallelAny(fluid.size(), [&](std::size_t i) { return m.distance(fluid.positions[i]) < reach; });
+      }
+      if (touched) maps = build(offset);
     }
     if (always || touched) {
       offsetNames += (offsetNames.empty() ? "" : ", ") + (o.name.empty() ? o.path : o.name);
-      if (map->surfaceOffset() < offset) {
+      Real applied = offset;  // a container's walls are built thick enough for it
+      if (!splitsIntoWalls(o)) applied = maps.front()->surfaceOffset();
+      if (applied < offset) {
         char thin[64];
-        std::snprintf(thin, sizeof(thin), " (thin: %.3g r)", double(map->surfaceOffset() / particleRadius_));
+        std::snprintf(thin, sizeof(thin), " (thin: %.3g r)", double(applied / particleRadius_));
         offsetNames += thin;
       }
     }
-    nodes += map->nodeCount();
-    maps_.push_back(std::move(map));
+    firstPiece_[b] = pieces_.size();
+    for (auto& map : maps) {
+      nodes += map->nodeCount();
+      pieces_.push_back({std::move(map), b});
+    }
   }
   if (!offsetNames.empty() && log_) {
     char line[160];
@@ -143,24 +232,26 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
   }
   if (log_) {
     char line[160];
-    std::snprintf(line, sizeof(line), "VolumeMap: %zu objects, %zu grid nodes, built in %.2f s", objects.size(), nodes,
-                  timer.seconds());
+    std::snprintf(line, sizeof(line), "VolumeMap: %zu objects (%zu maps), %zu grid nodes, built in %.2f s", objects.size(),
+                  pieces_.size(), nodes, timer.seconds());
     log_(LogLevel::Info, line);
   }
   samples_ = BoundarySamples();
   moved_ = true;
 }
 
-bool VolumeMapBoundary_Bender2019::virtualParticle(std::size_t o, const Vector3r& x, const CubicSplineKernel& kernel,
+bool VolumeMapBoundary_Bender2019::virtualParticle(std::size_t piece, const Vector3r& x, const CubicSplineKernel& kernel,
                                                    Vector3r& position, Real& mass, Vector3r& gradient) const {
   Real phi, volume;
   Vector3r phiGradient, volumeGradient;
+  const std::size_t o = pieces_[piece].object;
+  const VolumeMap& map = *pieces_[piece].map;
   if (!moving_[o]) {
-    if (!maps_[o]->sample(x, phi, phiGradient, volume, volumeGradient)) return false;
+    if (!map.sample(x, phi, phiGradient, volume, volumeGradient)) return false;
   } else {
     // The map is the body's at t = 0: query it there, turn the gradients into the world.
     const ObjectPose& pose = poses_[o];
-    if (!maps_[o]->sample(pose.toInitial(x), phi, phiGradient, volume, volumeGradient)) return false;
+    if (!map.sample(pose.toInitial(x), phi, phiGradient, volume, volumeGradient)) return false;
     phiGradient = pose.rotation * phiGradient;
     volumeGradient = pose.rotation * volumeGradient;
   }
@@ -196,7 +287,7 @@ Vector3r VolumeMapBoundary_Bender2019::impulseInBox(Index k, const Vector3r& x, 
   const ObjectPose& pose = poses_[o];
   const Vector3r xq = moving_[o] ? pose.toInitial(x) : x;  // the map's frame
   Matrix3r whole, part;
-  maps_[o]->normalMoments(xq, kernel_, [&](const Vector3r& foot) {
+  pieces_[samplePieces_[k]].map->normalMoments(xq, kernel_, [&](const Vector3r& foot) {
     return insideBox(moving_[o] ? Vector3r(pose.centre + pose.rotation * (foot - pose.initialCentre)) : foot, lo, hi);
   }, whole, part);
   // J's components along the surface normals it meets, M M^+ J (M^+ the pseudo-inverse: a flat
@@ -220,7 +311,7 @@ Vector3r VolumeMapBoundary_Bender2019::impulseInBox(Index k, const Vector3r& x, 
 }
 
 void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) {
-  const std::size_t n = fluid.size(), objects = maps_.size();
+  const std::size_t n = fluid.size(), pieces = pieces_.size();
   out.offsets.resize(n + 1);
   out.offsets[0] = 0;
   // Two passes (count, then fill) give one CSR array without locks; the second evaluates the
@@ -229,27 +320,30 @@ void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const 
     Index count = 0;
     Vector3r xk, gk;
     Real mk;
-    for (std::size_t o = 0; o < objects; ++o) count += virtualParticle(o, fluid.positions[i], kernel, xk, mk, gk);
+    for (std::size_t p = 0; p < pieces; ++p) count += virtualParticle(p, fluid.positions[i], kernel, xk, mk, gk);
     out.offsets[i + 1] = count;
   });
   for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
   const std::size_t pairs = out.offsets[n];
   samples_.resize(pairs);
+  samplePieces_.resize(pairs);
   out.indices.resize(pairs);
   out.gradW.resize(pairs);
   parallelFor(n, [&](std::size_t i) {
     Index e = out.offsets[i];
     const Vector3r xi = fluid.positions[i];
-    for (std::size_t o = 0; o < objects; ++o) {
+    for (std::size_t p = 0; p < pieces; ++p) {
       Vector3r xk, gk;
       Real mk;
-      if (!virtualParticle(o, xi, kernel, xk, mk, gk)) continue;
+      if (!virtualParticle(p, xi, kernel, xk, mk, gk)) continue;
+      const std::size_t o = pieces_[p].object;
       samples_.positions[e] = xk;
       // The body's velocity where the fluid particle is: the boundary density there, a function
       // of x_i in the body's frame, changes at grad rho_b . (v_i - v_body(x_i)).
       samples_.velocities[e] = moving_[o] ? poses_[o].velocityAt(xi) : Vector3r::Zero();
       samples_.masses[e] = mk;
       samples_.bodies[e] = Index(o);
+      samplePieces_[e] = Index(p);
       out.indices[e] = e;
       out.gradW[e] = gk;
       ++e;

@@ -23,6 +23,12 @@
 // surfaces always move D - d/2 into the solid, as Akinci layers do, so that a body displaces
 // its mesh's volume. There are no sample layers for rigid contact to work on, so RigidBodySystem
 // samples contact points on every surface of its own (docs/boundary-models.md).
+// A box container (an axis-aligned box with "inverted": true) gets one map per wall ("containers":
+// "walls", the default): each wall a convex slab, so a particle where walls meet gets one virtual
+// particle per wall, each at its own wall's distance. One map for the whole box ("whole", as
+// published) puts every wall's volume at the nearest wall's distance: in a corner that
+// over-counts the boundary density (a resting tank's corner particles at 1.03-1.08 rho0, never at
+// rest, 0.3-0.7 m/s), docs/boundary-models.md "Corners".
 #pragma once
 #include <memory>
 #include <string>
@@ -56,7 +62,12 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   Vector3r impulseInBox(Index k, const Vector3r& x, const Vector3r& impulse, const Vector3r& lo, const Vector3r& hi) const override;
 
   static std::vector<ParamSpec> parameters();
-  const VolumeMap& map(std::size_t object) const { return *maps_[object]; }
+  // The maps: one per object, or one per wall of a box container ("containers": "walls").
+  std::size_t mapCount() const { return pieces_.size(); }
+  const VolumeMap& pieceMap(std::size_t piece) const { return *pieces_[piece].map; }
+  std::size_t pieceObject(std::size_t piece) const { return pieces_[piece].object; }
+  // The first map of an object (its only one unless it is a box container split into walls).
+  const VolumeMap& map(std::size_t object) const { return *pieces_[firstPiece_[object]].map; }
   // Maps loaded from / built for the cache in the last initialize() (VolumeMapCache).
   const VolumeMapCache& cache() const { return cache_; }
 
@@ -65,9 +76,9 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   void onPose(std::size_t object, const ObjectPose& pose) override { poses_[object] = pose; }
 
  private:
-  // The virtual particle of object o for a fluid particle at x (position, mass and the pair's
-  // gradient); false if x is h or more from o.
-  bool virtualParticle(std::size_t o, const Vector3r& x, const CubicSplineKernel& kernel, Vector3r& position, Real& mass,
+  // The virtual particle of map `piece` for a fluid particle at x (position, mass and the pair's
+  // gradient); false if x is h or more from its surface.
+  bool virtualParticle(std::size_t piece, const Vector3r& x, const CubicSplineKernel& kernel, Vector3r& position, Real& mass,
                        Vector3r& gradient) const;
 
   // The parameters as declared (lengths in particle radii, the cache folder as written), each
@@ -75,12 +86,17 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   // members below from them.
   struct Settings {
     Real cellSize, surfaceOffset;
-    std::string offsetObjects, cache;
+    std::string offsetObjects, cache, containers;
   };
   static const BoundParams<Settings>& bound();
   VolumeMapBoundary_Bender2019(const Settings& settings, Real particleRadius, Real fluidSpacing, const LogSink& log,
                                const std::string& sceneDirectory);
 
+  // A box container whose maps are its six walls ("containers": "walls").
+  bool splitsIntoWalls(const BoundaryObject& o) const;
+  // Those walls, convex slabs, with the container's inner faces moved `surfaceOffset` into the
+  // solid (and the object's mapThickness back into the fluid).
+  std::vector<BoundaryObject> wallsOf(const BoundaryObject& o, const CubicSplineKernel& kernel, Real surfaceOffset) const;
   // m: the object's mapCellSize, else the model's cellSize.
   Real cellSizeOf(const BoundaryObject& o) const { return o.mapCellSize > 0 ? o.mapCellSize * particleRadius_ : cellSize_; }
 
@@ -89,11 +105,18 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   Real cellSize_;              // m
   Real requestedOffset_;       // m; negative: computed, D - d/2
   std::string offsetObjects_;  // "auto", "all" or "none"
+  bool splitContainers_;       // "containers": "walls"
   Real density0_ = 1000;
   CubicSplineKernel kernel_;  // initialize()'s, for impulseInBox
   LogSink log_;
   VolumeMapCache cache_;
-  std::vector<std::unique_ptr<VolumeMap>> maps_;
+  struct Piece {
+    std::unique_ptr<VolumeMap> map;
+    std::size_t object;
+  };
+  std::vector<Piece> pieces_;
+  std::vector<std::size_t> firstPiece_;  // per object
+  std::vector<Index> samplePieces_;      // per virtual particle (pair): its map
   std::vector<char> moving_;          // per object: dynamic or animated
   std::vector<ObjectPose> poses_;     // per object; identity for static ones
 };

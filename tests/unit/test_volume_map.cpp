@@ -203,19 +203,26 @@ TEST(VolumeMap, SphereMeshDistanceHasTheSideAsItsSign) {
   }
 }
 
-// The pair's gradient is the gradient of the boundary density the pair gives (Eq. 30 with an
-// implicit boundary): m~_k grad_i against central differences of m~_k W(x_i - x_k). At a wall to
-// round-off; in a tank's edge and corner, where the interpolated distance's gradient is shorter
-// than 1 and the model takes the unit normal instead (VolumeMapBoundary_Bender2019.cpp), it
-// points the same way and is larger (measured with r cells: 1.08 x in the edge, 1.53 x in the
-// corner; the default 2r cells widen those cells: 1.94 x and 4.5 x).
-TEST(VolumeMapBoundary, PairGradientIsTheGradientOfTheBoundaryDensity) {
+// The pairs' gradients are the gradient of the boundary density they give (Eq. 30 with an
+// implicit boundary): sum_k m~_k grad_i against central differences of sum_k m~_k W(x_i - x_k).
+// With one map per wall of the tank (the default) to round-off everywhere, at a wall, in an
+// edge (two virtual particles) and in a corner (three): each wall's distance is a plane's. With
+// one map for the whole tank ("containers": "whole") at a wall to round-off; in the edge and the
+// corner, where the interpolated distance's gradient is shorter than 1 and the model takes the
+// unit normal instead (VolumeMapBoundary_Bender2019.cpp), it points the same way and is larger
+// (measured with r cells: 1.08 x in the edge, 1.53 x in the corner; 2r cells widen those cells:
+// 1.94 x and 4.5 x).
+class PairGradient : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(PairGradient, IsTheGradientOfTheBoundaryDensity) {
+  const bool whole = std::string(GetParam()) == "whole";
   const CubicSplineKernel kernel(4 * kR);
   const LogSink quiet = [](LogLevel, const std::string&) {};
   FluidModel fluid("probe", 1000);
   const PluginContext context{&fluid, kR, kernel.supportRadius(), quiet, Real(1.8566) * kR};
-  auto model = builtinPlugins().boundaryModels.create("VolumeMap", json{{"type", "VolumeMap"}, {"offsetObjects", "none"}, {"cellSize", 1.0}},
-                                                      "simulation.boundaryModel", context, quiet);
+  auto model = builtinPlugins().boundaryModels.create(
+      "VolumeMap", json{{"type", "VolumeMap"}, {"offsetObjects", "none"}, {"cellSize", 1.0}, {"containers", GetParam()}},
+      "simulation.boundaryModel", context, quiet);
   model->initialize({boxObject(Vector3r::Zero(), Vector3r(1, 1, 1), true)}, fluid, kernel);
   // The central difference's step. In float a step of 1e-5 m leaves the densities' round-off
   // (eps rho over the step) and x +- eps's rounding at ulp(0.5) = 6e-8 m at 1e-3 of the gradient
@@ -227,9 +234,14 @@ TEST(VolumeMapBoundary, PairGradientIsTheGradientOfTheBoundaryDensity) {
     Vector3r x;
     Real minRatio, maxRatio;  // |gradient| / |difference|
   };
-  for (const Probe& probe : {Probe{Vector3r(0.5, 2.7 * kR, 0.5), Real(0.999), Real(1.001)},
-                             Probe{Vector3r(0.5, 2.2 * kR, 2.9 * kR), Real(1), Real(1.2)},
-                             Probe{Vector3r(2.6 * kR, 2.4 * kR, 2.8 * kR), Real(1), Real(1.7)}}) {
+  struct Place {
+    Probe probe;
+    Index virtualParticles;  // with one map per wall
+  };
+  for (const Place& place : {Place{Probe{Vector3r(0.5, 2.7 * kR, 0.5), Real(0.999), Real(1.001)}, 1},
+                             Place{Probe{Vector3r(0.5, 2.2 * kR, 2.9 * kR), Real(1), Real(1.2)}, 2},
+                             Place{Probe{Vector3r(2.6 * kR, 2.4 * kR, 2.8 * kR), Real(1), Real(1.7)}, 3}}) {
+    const Probe probe = whole ? place.probe : Probe{place.probe.x, Real(0.999), Real(1.001)};
     const Vector3r x = probe.x;
     fluid.resize(7);
     fluid.positions[0] = x;
@@ -250,16 +262,19 @@ TEST(VolumeMapBoundary, PairGradientIsTheGradientOfTheBoundaryDensity) {
     // Divided by the step between the positions as stored (x +- eps is rounded to x's ulp).
     for (int a = 0; a < 3; ++a)
       difference[a] = (density(1 + 2 * a) - density(2 + 2 * a)) / (fluid.positions[1 + 2 * a][a] - fluid.positions[2 + 2 * a][a]);
-    ASSERT_EQ(lists.count(0), 1u);
+    ASSERT_EQ(lists.count(0), whole ? 1u : place.virtualParticles);
     EXPECT_GT(density(0), 0);
     const Real ratio = gradient.norm() / difference.norm(), cosine = gradient.normalized().dot(difference.normalized());
-    std::printf("at (%.1f, %.1f, %.1f) r: |gradient| / |difference| = %.4f, cosine %.6f\n", double(x[0] / kR),
+    std::printf("%s: at (%.1f, %.1f, %.1f) r: |gradient| / |difference| = %.4f, cosine %.6f\n", GetParam(), double(x[0] / kR),
                 double(x[1] / kR), double(x[2] / kR), double(ratio), double(cosine));
     EXPECT_GE(ratio, probe.minRatio);
     EXPECT_LE(ratio, probe.maxRatio);
     EXPECT_GT(cosine, 0.999);
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Containers, PairGradient, ::testing::Values("walls", "whole"),
+                         [](const auto& info) { return std::string(info.param); });
 
 // A moving body's map goes with it: a plate 0.4 x 0.1 x 0.4 m turned by 90 degrees about z
 // through its centre. A fluid particle 2.5 r off the turned plate's thin face (x = 0.25) gets one
