@@ -13,6 +13,7 @@
 #include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
 #include "Utilities/AxisAlignedBox.h"
+#include "Utilities/MassProperties.h"
 #include "Utilities/ParallelFor.h"
 #include "Utilities/Timer.h"
 #include "Utilities/TriangleMesh.h"
@@ -32,11 +33,33 @@ const PluginRegistration<BoundaryModel> registration{
 }  // namespace
 
 namespace {
-// The solid around a box container as six convex slabs `thickness` thick that do not overlap:
+// The axis-aligned box [lo, hi] a container is, if it is one: a "box" object, or a mesh whose
+// every vertex is a corner of its bounding box and which encloses that box's volume (an inverted
+// unit box OBJ, scaled and moved, as SPlisHSPlasH scenes give their tanks).
+bool containerBoxOf(const BoundaryObject& o, Vector3r& lo, Vector3r& hi) {
+  if (!o.inverted) return false;
+  if (o.isBox) {
+    lo = o.boxMin;
+    hi = o.boxMax;
+    return true;
+  }
+  if (o.mesh.triangles.size() < 12) return false;
+  o.mesh.boundingBox(lo, hi);
+  const Vector3r size = hi - lo;
+  if (!(size.minCoeff() > 0)) return false;
+  const Real tolerance = Real(1e-5) * size.norm();
+  for (const Vector3r& v : o.mesh.vertices)
+    for (int a = 0; a < 3; ++a)
+      if (std::abs(v[a] - lo[a]) > tolerance && std::abs(v[a] - hi[a]) > tolerance) return false;
+  const Real boxVolume = size.prod();
+  return std::abs(std::abs(computeMassProperties(o.mesh).volume) - boxVolume) < Real(1e-5) * boxVolume;
+}
+
+// The solid around container o, the box [lo, hi], as six convex slabs `thickness` thick that do not overlap:
 // floor and lid span the whole outline, the x walls stand between them, the z walls between
 // those. Each is a (not inverted) box object of its own; the union is the container's shell.
-std::vector<BoundaryObject> containerWalls(const BoundaryObject& o, Real thickness) {
-  const Vector3r lo = o.boxMin, hi = o.boxMax, t = Vector3r::Constant(thickness);
+std::vector<BoundaryObject> containerWalls(const BoundaryObject& o, const Vector3r& lo, const Vector3r& hi, Real thickness) {
+  const Vector3r t = Vector3r::Constant(thickness);
   const Vector3r outerLo = lo - t, outerHi = hi + t;
   const struct {
     const char* name;
@@ -125,7 +148,10 @@ VolumeMapBoundary_Bender2019::VolumeMapBoundary_Bender2019(const Settings& setti
                  : (std::filesystem::path(sceneDirectory) / settings.cache).string(),
              log) {}
 
-bool VolumeMapBoundary_Bender2019::splitsIntoWalls(const BoundaryObject& o) const { return splitContainers_ && o.isBox && o.inverted; }
+bool VolumeMapBoundary_Bender2019::splitsIntoWalls(const BoundaryObject& o) const {
+  Vector3r lo, hi;
+  return splitContainers_ && containerBoxOf(o, lo, hi);
+}
 
 std::vector<BoundaryObject> VolumeMapBoundary_Bender2019::wallsOf(const BoundaryObject& o, const CubicSplineKernel& kernel,
                                                                   Real surfaceOffset) const {
@@ -133,12 +159,11 @@ std::vector<BoundaryObject> VolumeMapBoundary_Bender2019::wallsOf(const Boundary
   // walls' inner faces, not the slabs' ends: the box grows by their difference and the slabs
   // are built from it with neither (moved as a map's offset, each slab's end would move too and
   // open a slot along every edge where two walls meet).
-  BoundaryObject grown = o;
+  Vector3r lo, hi;
+  containerBoxOf(o, lo, hi);
   const Vector3r shift = Vector3r::Constant(surfaceOffset - o.mapThickness);
-  grown.boxMin = o.boxMin - shift;
-  grown.boxMax = o.boxMax + shift;
   // Thick enough that no support ball of a fluid particle reaches through a wall to its back.
-  std::vector<BoundaryObject> walls = containerWalls(grown, kernel.supportRadius() + 3 * cellSizeOf(o));
+  std::vector<BoundaryObject> walls = containerWalls(o, lo - shift, hi + shift, kernel.supportRadius() + 3 * cellSizeOf(o));
   for (BoundaryObject& w : walls) w.mapThickness = 0;
   return walls;
 }

@@ -92,7 +92,8 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   VolumeMapBoundary_Bender2019(const Settings& settings, Real particleRadius, Real fluidSpacing, const LogSink& log,
                                const std::string& sceneDirectory);
 
-  // A box container whose maps are its six walls ("containers": "walls").
+  // A box container whose maps are its six walls ("containers": "walls"): an inverted "box", or an
+  // inverted mesh that is an axis-aligned box (SPlisHSPlasH's UnitBox.obj tanks).
   bool splitsIntoWalls(const BoundaryObject& o) const;
   // Those walls, convex slabs, with the container's inner faces moved `surfaceOffset` into the
   // solid (and the object's mapThickness back into the fluid).

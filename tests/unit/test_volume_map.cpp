@@ -334,6 +334,36 @@ TEST(VolumeMapBoundary, MirroringAndExtrapolationWarnThatTheyArePkEqualsPi) {
   }
 }
 
+// A container gets one map per wall when it is an axis-aligned box, given as a "box" or as a mesh
+// (SPlisHSPlasH scenes give their tanks as UnitBox.obj, inverted, scaled and moved): the same
+// six slabs, so the same virtual particles. A turned box or a sphere keeps one map.
+TEST(VolumeMapBoundary, AnInvertedBoxMeshIsSplitIntoWallsLikeABox) {
+  auto mapsFor = [](const json& tank) {
+    json scene = {{"simulation", {{"particleRadius", 0.025}, {"boundaryModel", {{"type", "VolumeMap"}, {"cache", ""}}}}},
+                  {"fluids", {{{"blocks", {{{"min", {0.1, 0.1, 0.1}}, {"max", {0.3, 0.3, 0.3}}}}}}}},
+                  {"boundaries", {tank}}};
+    auto sim = test::simulationFromJson(scene);
+    const auto& model = dynamic_cast<const VolumeMapBoundary_Bender2019&>(sim->boundaryModel());
+    sim->step();
+    return std::make_pair(model.mapCount(), sim->fluid().positions);
+  };
+  const json box = {{"box", {{"min", {0, 0, 0}}, {"max", {0.4, 0.6, 0.4}}}}, {"inverted", true}};
+  const json mesh = {{"mesh", "../meshes/UnitBox.obj"}, {"scale", {0.4, 0.6, 0.4}}, {"translation", {0.2, 0.3, 0.2}}, {"inverted", true}};
+  const auto [boxMaps, boxPositions] = mapsFor(box);
+  const auto [meshMaps, meshPositions] = mapsFor(mesh);
+  EXPECT_EQ(boxMaps, 6u);
+  EXPECT_EQ(meshMaps, 6u);
+  ASSERT_EQ(boxPositions.size(), meshPositions.size());
+  for (std::size_t i = 0; i < boxPositions.size(); ++i)
+    EXPECT_LT((boxPositions[i] - meshPositions[i]).norm(), Real(1e-5)) << "particle " << i;
+  json turned = mesh;
+  turned["rotationAxis"] = {0, 1, 0};
+  turned["rotationAngle"] = 0.3;
+  EXPECT_EQ(mapsFor(turned).first, 1u);
+  json sphere = {{"mesh", "../meshes/sphere.obj"}, {"scale", {0.5, 0.5, 0.5}}, {"translation", {0.2, 0.2, 0.2}}, {"inverted", true}};
+  EXPECT_EQ(mapsFor(sphere).first, 1u);
+}
+
 // Moving bodies take their map along; rigid contact samples their surfaces for itself (they
 // have no sample layers), so nothing needs a warning.
 // Per-object map settings: an object's mapCellSize (radii) replaces the model's cellSize for its
