@@ -17,7 +17,11 @@ combination:
              side probe    pressure probe on a side wall at mid-depth / rho0 g (H - y);
              floor force   force probe on the tank (vertical) / weight;
              side force    force probe on one wall / (g w sum_j m_j y_j / A), the hydrostatic force
-                           of the fluid as it lies (= rho0 g H^2 w / 2 at density rho0);
+                           of the fluid as it lies (= rho0 g H^2 w / 2 at density rho0); the wall's
+                           samples above the floor's edge row (particle walls), the whole wall
+                           (volume maps, whose wall faces reach down to the floor's);
+             M / (A H)     the fluid's mass per volume as it lies, / rho0: a fluid at rest has
+                           dp/dd = g M / (A H), so the slopes above are read against it too;
   held box a static 0.2 m cube held at the centre of a 0.36 m tank filled to 0.36 m (r = 0.01 m):
              fluid force on it / rho0 V g, means over 1.0-1.5 s;
   jet      a 2 m/s round jet (radius 0.04 m, r = 0.005 m, nu = 1e-3 m^2/s) without gravity onto a
@@ -63,8 +67,12 @@ def tank_scene(solver, model, treatment, n):
                    {"name": "side", "kind": "pressure", "position": [0, hb / 2, w / 2]},
                    {"name": "level", "kind": "level", "position": [w / 2, 0, w / 2]},
                    {"name": "tank", "kind": "force", "boundary": "tank"},
+                   # The wall x = 0. Particle walls: its samples above the floor's edge row; volume maps:
+                   # from the bottom, since the tank's walls are slabs whose inner faces the surface
+                   # offset moves 1.36 r into the solid, down to the floor's face at y = -1.36 r, where
+                   # the lowest layers' push lands (docs/boundary-models.md, "Corners").
                    {"name": "wall", "kind": "force", "boundary": "tank",
-                    "region": {"min": [-1, 0.3 * R, -1], "max": [0.3 * R, 10, 10]}}],
+                    "region": {"min": [-1, 0.3 * R if model == "Akinci2012" else -1, -1], "max": [0.3 * R, 10, 10]}}],
         "output": {"enabled": False},
     }
 
@@ -155,6 +163,10 @@ def measure(case, solver, model, treatment, n, threads):
         out["floor_force"] = -avg["tank.fy"] / weight
         out["side_force"] = -avg["wall.fx"] / (G * w * float(np.mean(moment)) / (w * w))
         out["level"] = H
+        # The fluid's mass per volume as it lies, M / (A H), against rho0: p(d) of a fluid at rest
+        # rises at g times this (a disordered packing at SPH density rho0 fills a little more or
+        # less volume than the start lattice's d^3 per particle).
+        out["fill"] = weight / G / (w * w * H) / RHO0
         out["ms_per_step"] = sim.summary()["msPerStep"]
         out["steps"] = sim.step_count
         out["profile"] = {"depth": depth[deep].tolist(), "raw": p[deep].tolist(), "shepard": shepard[deep].tolist(),
@@ -245,13 +257,14 @@ def main():
     lines = [f"Machine: {machine_line()}; {args.threads} thread(s) per run, {args.jobs} runs at a time; {precision}; "
              f"tank {args.n} x {args.n} x {2 * args.n} at r = {R} m (3 s), held box r = 0.01 m (1.5 s), jet r = 0.005 m (0.6 s).", "",
              "| solver | walls | treatment | particle RMS raw / field, % rho0 g H | slope raw / field | floor layer raw / field | side layer raw / field | "
-             "floor probe | side probe | floor force / weight | side force / hydrostatic | held box / rho0 V g | jet / mdot U | tank ms/step |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "floor probe | side probe | floor force / weight | side force / hydrostatic | held box / rho0 V g | jet / mdot U | tank ms/step | "
+             "M / (A H), rho0 |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for key, r in results.items():
         s, m, t = key.split("_")
         if "rms_raw" not in r:
             lines.append(f"| {s} | {m} | {t} | {r.get('error', 'tank not run')} | | | | | | | | | "
-                         f"{r.get('buoyancy', float('nan')):.3f} | {r.get('jet', float('nan')):.3f} | |")
+                         f"{r.get('buoyancy', float('nan')):.3f} | {r.get('jet', float('nan')):.3f} | | |")
             continue
         name = t if t != "auto" else f"auto ({r['resolved_treatment']})"
         lines.append(f"| {s} | {m} | {name} | {r['rms_raw']:.1f} / {r['rms_shepard']:.1f} | "
@@ -259,7 +272,7 @@ def main():
                      f"{r['floor_layer']:.2f} / {r.get('floor_layer_field', float('nan')):.2f} | "
                      f"{r['side_layer']:.2f} / {r.get('side_layer_field', float('nan')):.2f} | {r['floor_probe']:.3f} | {r['side_probe']:.3f} | "
                      f"{r['floor_force']:.4f} | {r['side_force']:.3f} | {r.get('buoyancy', float('nan')):.3f} | {r.get('jet', float('nan')):.3f} | "
-                     f"{r['ms_per_step']:.2f} |")
+                     f"{r['ms_per_step']:.2f} | {r['fill']:.4f} |")
     table = "\n".join(lines) + "\n"
     print(table)
     os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
