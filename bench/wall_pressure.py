@@ -21,7 +21,7 @@ combination:
                            samples above the floor's edge row (particle walls), the whole wall
                            (volume maps, whose wall faces reach down to the floor's);
              M / (A H)     the fluid's mass per volume as it lies, / rho0: a fluid at rest has
-                           dp/dd = g M / (A H), so the slopes above are read against it too;
+                           dp/dd = g M / (A H) (H moves by a percent or two as the packing settles);
   held box a static 0.2 m cube held at the centre of a 0.36 m tank filled to 0.36 m (r = 0.01 m):
              fluid force on it / rho0 V g, means over 1.0-1.5 s;
   jet      a 2 m/s round jet (radius 0.04 m, r = 0.005 m, nu = 1e-3 m^2/s) without gravity onto a
