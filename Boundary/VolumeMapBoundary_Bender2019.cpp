@@ -243,10 +243,17 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
         offsetNames += thin;
       }
     }
+    // Where each map can give a virtual particle, in its own frame: within h (and a cell of
+    // interpolation) of its object's surface, which lies in the mesh's box grown by mapThickness.
+    const std::vector<BoundaryObject> shapes =
+        splitsIntoWalls(o) ? wallsOf(o, kernel, always || touched ? offset : Real(0)) : std::vector<BoundaryObject>{o};
     firstPiece_[b] = pieces_.size();
-    for (auto& map : maps) {
-      nodes += map->nodeCount();
-      pieces_.push_back({std::move(map), b});
+    for (std::size_t p = 0; p < maps.size(); ++p) {
+      nodes += maps[p]->nodeCount();
+      Vector3r lo, hi;
+      shapes[p].mesh.boundingBox(lo, hi);
+      const Real reach = kernel.supportRadius() + cellSizeOf(o) + o.mapThickness;
+      pieces_.push_back({std::move(maps[p]), b, lo - Vector3r::Constant(reach), hi + Vector3r::Constant(reach)});
     }
   }
   if (!offsetNames.empty() && log_) {
@@ -269,14 +276,17 @@ bool VolumeMapBoundary_Bender2019::virtualParticle(std::size_t piece, const Vect
                                                    Vector3r& position, Real& mass, Vector3r& gradient) const {
   Real phi, volume;
   Vector3r phiGradient, volumeGradient;
-  const std::size_t o = pieces_[piece].object;
-  const VolumeMap& map = *pieces_[piece].map;
+  const Piece& p = pieces_[piece];
+  const std::size_t o = p.object;
+  const VolumeMap& map = *p.map;
+  auto outOfReach = [&](const Vector3r& xq) { return (xq - p.reachLo).minCoeff() < 0 || (p.reachHi - xq).minCoeff() < 0; };
   if (!moving_[o]) {
-    if (!map.sample(x, phi, phiGradient, volume, volumeGradient)) return false;
+    if (outOfReach(x) || !map.sample(x, phi, phiGradient, volume, volumeGradient)) return false;
   } else {
     // The map is the body's at t = 0: query it there, turn the gradients into the world.
     const ObjectPose& pose = poses_[o];
-    if (!map.sample(pose.toInitial(x), phi, phiGradient, volume, volumeGradient)) return false;
+    const Vector3r xq = pose.toInitial(x);
+    if (outOfReach(xq) || !map.sample(xq, phi, phiGradient, volume, volumeGradient)) return false;
     phiGradient = pose.rotation * phiGradient;
     volumeGradient = pose.rotation * volumeGradient;
   }

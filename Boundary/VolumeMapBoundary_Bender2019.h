@@ -114,6 +114,10 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   struct Piece {
     std::unique_ptr<VolumeMap> map;
     std::size_t object;
+    // The box, in the map's frame, outside which it gives no virtual particle: a cheap test
+    // before the grid look-up (a tank's six walls are six maps, and most particles are far
+    // from most walls).
+    Vector3r reachLo, reachHi;
   };
   std::vector<Piece> pieces_;
   std::vector<std::size_t> firstPiece_;  // per object
