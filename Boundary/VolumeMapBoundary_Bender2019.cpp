@@ -212,13 +212,13 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
     // A moving body's displaced volume is its buoyancy: its surface always moves ("auto").
     const bool always = offsetObjects_ == "all" || (offsetObjects_ == "auto" && moving_[b]);
     // The object's maps with its surface moved `shift` into the solid: one, or a box
-    // container's six walls.
+    // container's six walls (`shapes`, whose slabs already carry the shift).
+    const bool split = splitsIntoWalls(o);
+    std::vector<BoundaryObject> shapes;
     auto build = [&](Real shift) {
+      shapes = split ? wallsOf(o, kernel, shift) : std::vector<BoundaryObject>{o};
       std::vector<std::unique_ptr<VolumeMap>> maps;
-      if (splitsIntoWalls(o))
-        for (const BoundaryObject& wall : wallsOf(o, kernel, shift)) maps.push_back(cache_.obtain(wall, kernel, cellSizeOf(o), 0));
-      else
-        maps.push_back(cache_.obtain(o, kernel, cellSizeOf(o), shift));
+      for (const BoundaryObject& shape : shapes) maps.push_back(cache_.obtain(shape, kernel, cellSizeOf(o), split ? Real(0) : shift));
       return maps;
     };
     std::vector<std::unique_ptr<VolumeMap>> maps = build(always ? offset : Real(0));
@@ -236,7 +236,7 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
     if (always || touched) {
       offsetNames += (offsetNames.empty() ? "" : ", ") + (o.name.empty() ? o.path : o.name);
       Real applied = offset;  // a container's walls are built thick enough for it
-      if (!splitsIntoWalls(o)) applied = maps.front()->surfaceOffset();
+      if (!split) applied = maps.front()->surfaceOffset();
       if (applied < offset) {
         char thin[64];
         std::snprintf(thin, sizeof(thin), " (thin: %.3g r)", double(applied / particleRadius_));
@@ -245,8 +245,6 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
     }
     // Where each map can give a virtual particle, in its own frame: within h (and a cell of
     // interpolation) of its object's surface, which lies in the mesh's box grown by mapThickness.
-    const std::vector<BoundaryObject> shapes =
-        splitsIntoWalls(o) ? wallsOf(o, kernel, always || touched ? offset : Real(0)) : std::vector<BoundaryObject>{o};
     firstPiece_[b] = pieces_.size();
     for (std::size_t p = 0; p < maps.size(); ++p) {
       nodes += maps[p]->nodeCount();
