@@ -4,13 +4,17 @@
 Two cases, each run through the consph Python module (PYTHONPATH=build/python), one process per
 combination:
   tank     an N x N x 2N block of water drawn up to the walls of its tank (r = 0.025 m; N = 10 by
-           default), rests for 3 s; means over the last 0.5 s of
+           default), rests for 3 s; every figure is a mean over the frames of the last 0.5 s:
              particle RMS  of p - rho0 g d over every particle deeper than 3r (wall layers
                            included), d below the level gauge's surface, in % of rho0 g H; "raw" is
-                           the solver's pressure (fluid.solver_pressures), "shepard" the exported
+                           the solver's pressure (fluid.solver_pressures), "field" the exported
                            pressure field (fluid.pressures), its kernel average over each
-                           particle's neighbourhood (sum_j V_j p_j W_ij / sum_j V_j W_ij), one frame (t = 3 s);
-             slope         of p against d over the same particles, in rho0 g (raw, and of the field);
+                           particle's neighbourhood (sum_j V_j p_j W_ij / sum_j V_j W_ij);
+             slope         of p against d over the same particles, in rho0 g (raw, and of the
+                           field; in brackets the field's slope's spread from frame to frame, its
+                           standard deviation);
+             time-averaged the same RMS and slope of the field averaged over those frames (each
+                           particle's mean pressure at its mean height);
              wall layers   mean p / rho0 g d of the particles within one spacing of the floor and of
                            a side wall (raw, and of the exported field);
              floor probe   pressure probe at the floor's centre / (weight / area);
@@ -133,31 +137,50 @@ def measure(case, solver, model, treatment, n, threads):
         weight = len(f.positions) * f.masses[0] * G
         t0 = time.time()
         sim.run(until=2.5)
-        rows, moment = [], []
+        rows, moment, frames = [], [], []
         while sim.time < 3.0 - 1e-9:
             sim.step(1)
             rows.append(sim.probes)
             moment.append(float(np.sum(f.masses * f.positions[:, 1])))
+            frames.append((f.positions[:, 1].copy(), f.solver_pressures.copy(), f.pressures.copy()))
         wall = time.time() - t0
         avg = {k: float(np.mean([r[k] for r in rows])) for k in rows[0]}
         H = avg["level"]
-        # raw: the solver's per-particle pressure; shepard: the exported pressure field (its kernel
-        # average, Simulation::updatePressureField), what a frame and fluid.pressures hold.
-        x, p, shepard = f.positions.copy(), f.solver_pressures.copy(), f.pressures.copy()
+        x = f.positions.copy()
+
+        def figures(y, p, shepard):
+            # One frame's figures; raw: the solver's per-particle pressure; field: the exported
+            # pressure field (its kernel average, Simulation::updatePressureField), what a frame
+            # and fluid.pressures hold.
+            depth = H - y
+            deep = depth > 3 * R
+            ref = RHO0 * G * depth[deep]
+            norm = RHO0 * G * H
+            floor = deep & (y < SPACING)
+            side = deep & (y > SPACING) & (np.minimum(np.minimum(x[:, 0], w - x[:, 0]), np.minimum(x[:, 2], w - x[:, 2])) < SPACING)
+            fig = {}
+            for tag, q in (("raw", p), ("field", shepard)):
+                fig["rms_" + tag] = 100 * float(np.sqrt(np.mean((q[deep] - ref) ** 2)) / norm)
+                fig["slope_" + tag] = float(np.polyfit(depth[deep], q[deep], 1)[0] / (RHO0 * G))
+                fig["floor_layer_" + tag] = float(np.mean(q[floor]) / np.mean(RHO0 * G * depth[floor]))
+                fig["side_layer_" + tag] = float(np.mean(q[side]) / np.mean(RHO0 * G * depth[side]))
+            return fig
+
+        # Every figure of the field is the mean over the last 0.5 s of one frame's figure (a single
+        # frame's slope scatters by ~1 % from step to step as the packing breathes: the spread is
+        # reported), and the same of the time-averaged field (each particle's mean pressure at its
+        # mean height; the particles move by a fraction of r over 0.5 s at rest).
+        per = [figures(*fr) for fr in frames]
+        for k in per[0]:
+            out[k] = float(np.mean([q[k] for q in per]))
+        out["slope_field_spread"] = float(np.std([q["slope_field"] for q in per]))
+        out["snapshot_slope_field"] = per[-1]["slope_field"]
+        mean_y = np.mean([fr[0] for fr in frames], axis=0)
+        tavg = figures(mean_y, np.mean([fr[1] for fr in frames], axis=0), np.mean([fr[2] for fr in frames], axis=0))
+        out["tavg_rms_field"], out["tavg_slope_field"] = tavg["rms_field"], tavg["slope_field"]
+        p, shepard = f.solver_pressures.copy(), f.pressures.copy()
         depth = H - x[:, 1]
         deep = depth > 3 * R
-        ref = RHO0 * G * depth[deep]
-        norm = RHO0 * G * H
-        out["rms_raw"] = 100 * float(np.sqrt(np.mean((p[deep] - ref) ** 2)) / norm)
-        out["rms_shepard"] = 100 * float(np.sqrt(np.mean((shepard[deep] - ref) ** 2)) / norm)
-        out["slope"] = float(np.polyfit(depth[deep], p[deep], 1)[0] / (RHO0 * G))
-        floor = deep & (x[:, 1] < SPACING)
-        side = deep & (x[:, 1] > SPACING) & (np.minimum(np.minimum(x[:, 0], w - x[:, 0]), np.minimum(x[:, 2], w - x[:, 2])) < SPACING)
-        out["floor_layer"] = float(np.mean(p[floor]) / np.mean(RHO0 * G * depth[floor]))
-        out["side_layer"] = float(np.mean(p[side]) / np.mean(RHO0 * G * depth[side]))
-        out["slope_field"] = float(np.polyfit(depth[deep], shepard[deep], 1)[0] / (RHO0 * G))
-        out["floor_layer_field"] = float(np.mean(shepard[floor]) / np.mean(RHO0 * G * depth[floor]))
-        out["side_layer_field"] = float(np.mean(shepard[side]) / np.mean(RHO0 * G * depth[side]))
         out["floor_probe"] = avg["floor"] / (weight / (w * w))
         out["side_probe"] = avg["side"] / (RHO0 * G * (H - n * SPACING))
         out["floor_force"] = -avg["tank.fy"] / weight
@@ -256,10 +279,11 @@ def main():
     precision = next((r["precision"] for r in results.values() if "precision" in r), "?")
     lines = [f"Machine: {machine_line()}; {args.threads} thread(s) per run, {args.jobs} runs at a time; {precision}; "
              f"tank {args.n} x {args.n} x {2 * args.n} at r = {R} m (3 s), held box r = 0.01 m (1.5 s), jet r = 0.005 m (0.6 s).", "",
-             "| solver | walls | treatment | particle RMS raw / field, % rho0 g H | slope raw / field | floor layer raw / field | side layer raw / field | "
+             "| solver | walls | treatment | particle RMS raw / field, % rho0 g H | slope raw / field (field's spread) | time-averaged field: RMS % / slope | "
+             "floor layer raw / field | side layer raw / field | "
              "floor probe | side probe | floor force / weight | side force / hydrostatic | held box / rho0 V g | jet / mdot U | tank ms/step | "
              "M / (A H), rho0 |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for key, r in results.items():
         s, m, t = key.split("_")
         if "rms_raw" not in r:
@@ -267,10 +291,11 @@ def main():
                          f"{r.get('buoyancy', float('nan')):.3f} | {r.get('jet', float('nan')):.3f} | | |")
             continue
         name = t if t != "auto" else f"auto ({r['resolved_treatment']})"
-        lines.append(f"| {s} | {m} | {name} | {r['rms_raw']:.1f} / {r['rms_shepard']:.1f} | "
-                     f"{r['slope']:.3f} / {r.get('slope_field', float('nan')):.3f} | "
-                     f"{r['floor_layer']:.2f} / {r.get('floor_layer_field', float('nan')):.2f} | "
-                     f"{r['side_layer']:.2f} / {r.get('side_layer_field', float('nan')):.2f} | {r['floor_probe']:.3f} | {r['side_probe']:.3f} | "
+        lines.append(f"| {s} | {m} | {name} | {r['rms_raw']:.1f} / {r['rms_field']:.1f} | "
+                     f"{r['slope_raw']:.3f} / {r['slope_field']:.3f} (±{r['slope_field_spread']:.3f}) | "
+                     f"{r['tavg_rms_field']:.1f} / {r['tavg_slope_field']:.3f} | "
+                     f"{r['floor_layer_raw']:.2f} / {r['floor_layer_field']:.2f} | "
+                     f"{r['side_layer_raw']:.2f} / {r['side_layer_field']:.2f} | {r['floor_probe']:.3f} | {r['side_probe']:.3f} | "
                      f"{r['floor_force']:.4f} | {r['side_force']:.3f} | {r.get('buoyancy', float('nan')):.3f} | {r.get('jet', float('nan')):.3f} | "
                      f"{r['ms_per_step']:.2f} | {r['fill']:.4f} |")
     table = "\n".join(lines) + "\n"

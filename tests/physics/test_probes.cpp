@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 
@@ -46,8 +47,9 @@ json tankScene(const std::string& boundaryPressure, const std::string& boundaryM
              {"region", {{"min", {-1, 0.3 * kR, -1}}, {"max", {0.3 * kR, 10, 10}}}}}}}};
 }
 
-// Averages of every probe column over [from, until].
-std::map<std::string, double> averageProbes(Simulation& sim, Real from, Real until) {
+// Averages of every probe column over [from, until]; `onStep` (if any) runs after every step.
+std::map<std::string, double> averageProbes(Simulation& sim, Real from, Real until,
+                                            const std::function<void()>& onStep = {}) {
   sim.run(from);
   std::map<std::string, double> sum;
   int rows = 0;
@@ -59,6 +61,7 @@ std::map<std::string, double> averageProbes(Simulation& sim, Real from, Real unt
     const FluidModel& f = sim.fluid();
     for (std::size_t j = 0; j < f.size(); ++j) sum["massMoment"] += double(f.masses[j] * f.positions[j][1]);
     ++rows;
+    if (onStep) onStep();
   }
   for (auto& [column, value] : sum) value /= rows;
   return sum;
@@ -77,7 +80,36 @@ class RestingTank : public ::testing::TestWithParam<const char*> {};
 TEST_P(RestingTank, WallLoadsMatchHydrostatics) {
   auto sim = test::simulationFromJson(tankScene(GetParam()));
   const double weight = double(sim->fluid().size()) * sim->fluid().masses[0] * kG;
-  const auto avg = averageProbes(*sim, 1.5, 2.0);
+  // The pressure field up to the walls, every frame of the window: every particle deeper than
+  // 3r, wall layers included, against rho0 g d (d below the frame's gauge surface), read from the
+  // exported field "pressure", the kernel average of the solver's pressures (those scatter by ~5 %
+  // of rho0 g H per particle: measured RMS 5.4 % raw, 1.0 % averaged, 10 x 10 x 20 tank).
+  double rmsSum = 0, slopeSum = 0, slopeSquares = 0;
+  int frames = 0;
+  auto fieldOfThisFrame = [&] {
+    sim->updatePressureField();
+    FluidModel& f = sim->fluid();
+    const std::vector<Real>& p = f.fields().get<Real>("pressure");
+    const Probes& probes = *sim->probes();
+    const auto level = std::find(probes.columns().begin(), probes.columns().end(), "level");
+    const double H = probes.values()[std::size_t(level - probes.columns().begin())];
+    test::LineFit fit;
+    double squares = 0;
+    int count = 0;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      const double depth = H - f.positions[i][1];
+      if (depth <= 3 * kR) continue;
+      fit.add(depth, p[i]);
+      squares += std::pow(p[i] - kRho0 * kG * depth, 2);
+      ++count;
+    }
+    const double slope = fit.slope() / (kRho0 * kG);
+    rmsSum += std::sqrt(squares / count) / (kRho0 * kG * H);
+    slopeSum += slope;
+    slopeSquares += slope * slope;
+    ++frames;
+  };
+  const auto avg = averageProbes(*sim, 1.5, 2.0, fieldOfThisFrame);
   const double H = avg.at("level");
   EXPECT_NEAR(-avg.at("tank.fy") / weight, 1.0, 0.005) << "floor (whole tank) force / weight";
   EXPECT_NEAR(avg.at("tank.fx") / weight, 0.0, 0.005);
@@ -89,33 +121,18 @@ TEST_P(RestingTank, WallLoadsMatchHydrostatics) {
   // The level gauge sees the fluid's top: within a particle spacing of volume / area.
   const double volumeHeight = double(sim->fluid().size()) * std::pow(double(kSpacing), 3) / (kWidth * kWidth);
   EXPECT_NEAR(H, volumeHeight, kSpacing);
-  // The pressure field up to the walls: every particle deeper than 3r, wall layers included,
-  // within RMS 2 % of rho0 g H of rho0 g d (d below the gauge's surface), and the fitted slope
-  // within 2 %. Measured 2026-12-03 (Intel Xeon, -march=native, double): side wall 0.986, RMS
-  // 1.44 %, slope 1.013. The 8 x 8 x 16 tank this test used before, where a third of the
-  // particles touch a wall, settles into a packing that depends on the CPU's round-off: side
-  // wall >= 0.98, slope 1.019 on an AMD EPYC; 0.979, slope 1.046, RMS 2.3 % on the Intel Xeon,
-  // with the code of then alike.
-  // Read from the exported field "pressure", the kernel average of the solver's pressures (those
-  // scatter by ~5 % of rho0 g H per particle: measured RMS 5.4 % raw, 1.0 % averaged, 10 x 10 x 20 tank).
-  sim->updatePressureField();
-  const FluidModel& f = sim->fluid();
-  const std::vector<Real>& p = sim->fluid().fields().get<Real>("pressure");
-  test::LineFit fit;
-  double squares = 0;
-  int count = 0;
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    const double depth = H - f.positions[i][1];
-    if (depth <= 3 * kR) continue;
-    fit.add(depth, p[i]);
-    squares += std::pow(p[i] - kRho0 * kG * depth, 2);
-    ++count;
-  }
-  std::printf("[ resting tank, %s ] floor %.4f, side wall %.4f x hydrostatic; pressure field RMS %.4f rho0 g H, slope %.4f rho0 g\n",
-              GetParam(), -avg.at("tank.fy") / weight, -avg.at("wall.fx") / sideForce,
-              std::sqrt(squares / count) / (kRho0 * kG * H), fit.slope() / (kRho0 * kG));
-  EXPECT_LT(std::sqrt(squares / count) / (kRho0 * kG * H), 0.02) << "pressure field RMS over " << count << " particles";
-  EXPECT_NEAR(fit.slope() / (kRho0 * kG), 1.0, 0.02);
+  // The bounds on the field, as means over the window's frames: RMS within 2 % of
+  // rho0 g H and the fitted slope within 1 %. One frame's slope scatters by ~1.3 % about the mean
+  // as the packing breathes (measured 2026-12-05, AMD EPYC, double, "auto": 1.0038 +- 0.014 over
+  // 1.5-2 s, 1.0018 +- 0.013 over 2.5-3 s), which is why a single frame (this test's reading
+  // before: 1.013 on an Intel Xeon, 1.004 on an AMD EPYC) cannot hold the bound.
+  const double rms = rmsSum / frames, slope = slopeSum / frames;
+  const double spread = std::sqrt(std::max(0.0, slopeSquares / frames - slope * slope));
+  std::printf("[ resting tank, %s ] floor %.4f, side wall %.4f x hydrostatic; pressure field over %d frames: RMS %.4f rho0 g H, "
+              "slope %.4f (frame to frame +- %.4f) rho0 g\n",
+              GetParam(), -avg.at("tank.fy") / weight, -avg.at("wall.fx") / sideForce, frames, rms, slope, spread);
+  EXPECT_LT(rms, 0.02) << "pressure field RMS, mean over the frames";
+  EXPECT_NEAR(slope, 1.0, 0.01) << "pressure field slope, mean over the frames";
 }
 
 // "auto" is the default (extrapolation with these Akinci walls).
