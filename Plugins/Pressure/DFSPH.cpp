@@ -51,7 +51,6 @@ std::vector<ParamSpec> DFSPH::parameters() { return bound().specs(); }
 DFSPH::DFSPH(const Params& p, FluidModel& fluid, BoundaryPressure treatment)
     : densityBeta_(fluid.fields().add<Real>("dfsphDensityBeta", FieldSorted, Real(0))),
       divergenceBeta_(fluid.fields().add<Real>("dfsphDivergenceBeta", FieldSorted, Real(0))),
-      densityAtLastStep_(fluid.fields().add<Real>("densityAtLastStep", FieldSorted, std::numeric_limits<Real>::infinity())),
       treatment_(treatment) {
   bound().assign(p, settings_);
   if (settings_.minIterations > settings_.maxIterations)
@@ -80,6 +79,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
   const auto& bn = ctx.boundaryNeighbors;
   const Real rho0 = f.density0(), dt = ctx.dt;
   const std::size_t n = f.size();
+  const Real maxDrop = maxDensityDrop(ctx, rho0, settings_.overlapReliefSpeed);
   const Real relaxationTime = densityRelaxationTime(settings_.densityRelaxation, ctx);
   const double errorSum = parallelSum<double>(n, [&](std::size_t i) {
     const Real drho = densityRate(ctx, i);
@@ -92,7 +92,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence) {
       return s * dt / rho0;
     } else {
       // rho*_i - target with rho*_i = rho_i + dt D rho_i / Dt (Eq. 6), compression only.
-      const Real target = driftTarget(f.densities[i], rho0, dt, relaxationTime, dropCap_[i]);
+      const Real target = driftTarget(f.densities[i], rho0, dt, relaxationTime, maxDrop);
       s = std::max(f.densities[i] + dt * drho - target, Real(0));
       increment_[i] = s * invDiagonal_[i] / (dt * dt);
       return s / rho0;
@@ -162,13 +162,6 @@ void DFSPH::beforeNonPressureForces(StepContext& ctx) {
 void DFSPH::solve(StepContext& ctx) {
   const FluidView& f = ctx.fluid;
   const std::size_t n = f.size();
-  // The most density each particle may be asked to lose this step (reliefDrop), fixed for the
-  // solve: the boundary's velocities change within it only by the bodies' trial motion.
-  const Real maxDrop = maxDensityDrop(ctx, f.density0(), settings_.overlapReliefSpeed);
-  dropCap_.resize(n);
-  parallelFor(n, [&](std::size_t i) {
-    dropCap_[i] = reliefDrop(maxDrop, f.densities[i], densityAtLastStep_[i], nextToMovingBoundary(ctx, i));
-  });
   // beta of the density solve scales with 1 / dt^2.
   warmStart(ctx, densityBeta_, (ctx.dtPrevious * ctx.dtPrevious) / (ctx.dt * ctx.dt));
   letBodiesRespond(ctx, true);
@@ -191,7 +184,6 @@ void DFSPH::solve(StepContext& ctx) {
   const Real divergenceScale = divergenceDt_ / ctx.dt;
   parallelFor(n, [&](std::size_t i) {
     f.pressures[i] = (densityBeta_[i] + divergenceScale * divergenceBeta_[i]) * f.densities[i] * f.densities[i];
-    densityAtLastStep_[i] = f.densities[i];
   });
 }
 

@@ -72,10 +72,8 @@ class DFSPH final : public PressureSolver {
 
   std::vector<Real>& densityBeta_;     // accumulated beta of the density solve (warm start), sorted field
   std::vector<Real>& divergenceBeta_;  // accumulated beta of the divergence solve, sorted field
-  std::vector<Real>& densityAtLastStep_;  // rho_i at the last step's density solve (reliefDrop), sorted field
   std::vector<Real> invDiagonal_;      // 1 / D_i (Eq. 32 without the -dt / rho_i^2 factor)
   std::vector<Real> increment_;        // beta increment of the current iteration
-  std::vector<Real> dropCap_;          // the density solve's reliefDrop per particle
   BoundaryPressureTreatment treatment_;
   Real divergenceDt_ = 0;                 // the time step the divergence solve of this step used
   std::vector<Real> divergenceBoundaryP_; // extrapolation: p_k of the divergence solve (its total)

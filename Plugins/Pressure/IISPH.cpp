@@ -11,7 +11,7 @@ namespace {
 const PluginRegistration<PressureSolver> registration{
     "IISPH", "Implicit incompressible SPH: relaxed Jacobi on the pressure Poisson equation (Ihmsen et al. 2014)",
     IISPH::parameters(), [](const Params& p, const PluginContext& c) -> std::unique_ptr<PressureSolver> {
-      return std::make_unique<IISPH>(p, *c.fluid, c.boundaryPressure);
+      return std::make_unique<IISPH>(p, c.boundaryPressure);
     }};
 }  // namespace
 
@@ -32,9 +32,7 @@ const BoundParams<IISPH::Settings>& IISPH::bound() {
 
 std::vector<ParamSpec> IISPH::parameters() { return bound().specs(); }
 
-IISPH::IISPH(const Params& p, FluidModel& fluid, BoundaryPressure treatment)
-    : treatment_(treatment),
-      densityAtLastStep_(fluid.fields().add<Real>("densityAtLastStep", FieldSorted, std::numeric_limits<Real>::infinity())) {
+IISPH::IISPH(const Params& p, BoundaryPressure treatment) : treatment_(treatment) {
   bound().assign(p, settings_);
   if (settings_.minIterations > settings_.maxIterations)
     throw InputError(p.pathOf("minIterations") + ": must not exceed maxIterations");
@@ -57,8 +55,7 @@ void IISPH::prepare(StepContext& ctx) {
     const Real rhoI = f.densities[i];
     // s_i = (target - rho*_i) / dt, rho*_i = rho_i + dt D rho_i / Dt (Eqs. 5, 6); target = rho0
     // unless the step starts over rho0 (driftTarget, overlap relief).
-    const Real target = driftTarget(rhoI, rho0, dt, relaxationTime, reliefDrop(maxDrop, rhoI, densityAtLastStep_[i], nextToMovingBoundary(ctx, i)));
-    densityAtLastStep_[i] = rhoI;
+    const Real target = driftTarget(rhoI, rho0, dt, relaxationTime, maxDrop);
     source_[i] = (target - rhoI - dt * densityRate(ctx, i)) / dt;
     // A_ii = -dt / rho_i^2 (|sum_j m_j grad W_ij + g_i|^2 + sum_j m_i m_j |grad W_ij|^2 [+ Eq. 15's term]).
     Vector3r sumGrad = treatment_.boundaryGradient(i);

@@ -12,7 +12,6 @@
 
 #include "Plugins/Pressure/BoundaryPressureTreatment.h"
 #include "Plugins/Pressure/SphPressureTerms.h"
-#include "Simulation/FluidModel.h"
 #include "Simulation/Params.h"
 #include "Simulation/PressureSolver.h"
 
@@ -23,7 +22,7 @@ class BoundParams;
 
 class IISPH final : public PressureSolver {
  public:
-  IISPH(const Params& params, FluidModel& fluid, BoundaryPressure treatment = BoundaryPressure::Consistent);
+  explicit IISPH(const Params& params, BoundaryPressure treatment = BoundaryPressure::Consistent);
   void solve(StepContext& ctx) override;
   void boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const override;
   static std::vector<ParamSpec> parameters();
@@ -49,7 +48,6 @@ class IISPH final : public PressureSolver {
   Real jacobiSweep(StepContext& ctx);
 
   BoundaryPressureTreatment treatment_;
-  std::vector<Real>& densityAtLastStep_;  // rho_i at the last step's prepare (reliefDrop), sorted field
   std::vector<Real> source_;        // (n) s_i = (rho0 - rho*_i) / dt
   std::vector<Real> omegaOverA_;    // (n) omega / A_ii, 0 where A_ii vanishes
   std::vector<Real> beta_;          // (n) p_i / rho_i^2

@@ -55,7 +55,7 @@ inline ParamSpec overlapReliefParameter() {
           "overlap relief: a particle more than 1 % over rho0 at the start of a step (an overlap with a body, a start "
           "lattice packed against a volume map's edge) is asked to lose at most rho0 overlapReliefSpeed dt / h of "
           "density per step instead of all of it, which would fling it out; measured push-out speeds are about 4 "
-          "times this, m/s (0: off). What the last step added (an impact) may always go again within the step",
+          "times this, m/s (0: off)",
           0, 1e6};
 }
 
@@ -67,30 +67,6 @@ inline ParamSpec overlapReliefParameter() {
 inline Real maxDensityDrop(const StepContext& ctx, Real rho0, Real overlapReliefSpeed) {
   if (overlapReliefSpeed <= 0) return std::numeric_limits<Real>::infinity();
   return std::max(rho0 * overlapReliefSpeed * ctx.dt / ctx.kernel.supportRadius(), Real(0.01) * rho0);
-}
-
-// The relief holds an excess the particle already had, not one the last step added. Where a
-// step's linear density prediction falls short (an impact against a volume map at a large step:
-// DamBreak.json's cflFactor 1 and 5 ms cap), the particle ends the step over rho0; capped at
-// maxDrop per step, those shortfalls would pile up step after step (measured: 1.10 -> 1.33 rho0
-// in one step at a side wall's flip-through, 903 particle-steps over 1.3 rho0, the densest 1.69).
-// So a step may take back at least what the last one added, rho_i - rho_i(last step), at the
-// speed it came in; an overlap that was there from the start (or that a body pushed in slowly)
-// still leaves at the relief's speed. rhoAtLastStep is +infinity where there is no history. Not
-// next to a moving boundary: there the excess is a body's closing in (a gap between it and a
-// wall), which no motion of the particle undoes at the speed it came in; taken back at once it
-// flung fluid at 102-189 m/s (the stress suite's 100 rho0 box and closing gap on volume maps).
-inline Real reliefDrop(Real maxDrop, Real rho, Real rhoAtLastStep, bool nextToMovingBoundary) {
-  return nextToMovingBoundary ? maxDrop : std::max(maxDrop, rho - rhoAtLastStep);
-}
-
-// Whether any boundary neighbour of fluid particle i moves (a body's sample, a virtual particle
-// of a moving map).
-inline bool nextToMovingBoundary(const StepContext& ctx, std::size_t i) {
-  const NeighborLists& bn = ctx.boundaryNeighbors;
-  for (Index e = bn.begin(i); e < bn.end(i); ++e)
-    if (ctx.boundary.velocities[bn.indices[e]].squaredNorm() > 0) return true;
-  return false;
 }
 
 // The density rho_i is asked to reach by the end of the step (the solves' rho0 in Eq. 5): rho0

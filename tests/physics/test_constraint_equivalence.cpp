@@ -103,8 +103,7 @@ TEST(ConstraintEquivalence, ConstraintAndClassicFormsGiveTheSamePressuresAndVelo
   // 1 % above rho0, where the relief would lower the plugin's target and not the equations').
   IISPH iisph(Params(json{{"maxError", 1e-6}, {"minIterations", kIterations}, {"maxIterations", kIterations},
                           {"omega", kOmega}, {"warmStart", false}, {"overlapReliefSpeed", 0}},
-                     "pressureSolver", IISPH::parameters(), s.log),
-              s.fluid);
+                     "pressureSolver", IISPH::parameters(), s.log));
   StepContext ctx = s.context(kDt);
   iisph.solve(ctx);
   ASSERT_EQ(iisph.stats().pressureIterations, kIterations);
