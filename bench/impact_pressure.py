@@ -6,7 +6,7 @@ hits the far wall x = 0.8 m. Two pressure probes on that wall, at y = 0.03 m and
 depth in z), with a fixed radius of 0.025 m at every resolution (so each resolution measures the
 same wall patch; the default 2h would shrink with r). Each run records the probes every step.
 
-Per run (solver DFSPH, Akinci walls, one treatment, one particle radius, one maxTimeStep):
+Per run (solver DFSPH, Akinci walls or --boundary-model VolumeMap, one treatment, one particle radius, one maxTimeStep):
   arrival    the first time the low probe's cumulative impulse reaches 0.002 rho0 g H s (a fiftieth of
              the impact's): not a threshold on the pressure itself, which a single particle thrown
              ahead of the front trips (one particle stopped within a short step reads several
@@ -56,11 +56,12 @@ FIXED_WINDOW = (0.28, 0.40)  # s, the fixed-window impulse
 TREATMENTS = ["consistent", "mirroring", "extrapolation"]
 
 
-def scene(treatment, r, max_dt, relaxation="resolution"):
+def scene(treatment, r, max_dt, relaxation="resolution", boundary_model="Akinci2012"):
     # densityRelaxation "resolution" by default: the time-step study converges only with it
     # (docs/boundary-pressure.md); --density-relaxation step runs the solver's default.
     sim = {"particleRadius": r, "stopAt": END, "boundaryPressure": treatment,
-           "pressureSolver": {"type": "DFSPH", "densityRelaxation": relaxation}}
+           "pressureSolver": {"type": "DFSPH", "densityRelaxation": relaxation},
+           "boundaryModel": {"type": boundary_model}}
     if max_dt:
         sim["maxTimeStep"] = max_dt
     return {
@@ -75,6 +76,11 @@ def scene(treatment, r, max_dt, relaxation="resolution"):
     }
 
 
+def suffix(boundary_model):
+    """Result files of the default (particle) walls keep their names; other models get a suffix."""
+    return "" if boundary_model == "Akinci2012" else f"_{boundary_model}"
+
+
 def moving_average(t, p, width):
     """Centred average over `width` seconds of a series with uneven steps, each sample p[i] held
     over its step (t[i-1], t[i]]: the difference of the cumulative integral, exact at any step
@@ -87,11 +93,11 @@ def moving_average(t, p, width):
     return (np.interp(hi, edges, cumulative) - np.interp(lo, edges, cumulative)) / np.maximum(hi - lo, 1e-12)
 
 
-def measure(treatment, r, max_dt, threads, relaxation="resolution"):
+def measure(treatment, r, max_dt, threads, relaxation="resolution", boundary_model="Akinci2012"):
     import numpy as np
     import consph
     consph.set_num_threads(threads)
-    sim = consph.Simulation.from_dict(scene(treatment, r, max_dt, relaxation))
+    sim = consph.Simulation.from_dict(scene(treatment, r, max_dt, relaxation, boundary_model))
     t0 = time.time()
     ts, low, high = [], [], []
     while sim.time < END - 1e-9:
@@ -129,7 +135,7 @@ def measure(treatment, r, max_dt, threads, relaxation="resolution"):
     return out
 
 
-def plot(results, treatments):
+def plot(results, treatments, boundary_model="Akinci2012"):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -143,10 +149,10 @@ def plot(results, treatments):
         ax.set_xlim(0.15, END)
         ax.set_xlabel("t, s")
         ax.set_ylabel("low probe p / rho0 g H")
-        ax.set_title(f"dam break impact, DFSPH, Akinci walls, {treatment}", fontsize=9)
+        ax.set_title(f"dam break impact, DFSPH, {boundary_model} walls, {treatment}", fontsize=9)
         ax.legend(fontsize=7)
         fig.tight_layout()
-        fig.savefig(os.path.join(HERE, "results", f"impact_pressure_{treatment}.png"), dpi=110)
+        fig.savefig(os.path.join(HERE, "results", f"impact_pressure{suffix(boundary_model)}_{treatment}.png"), dpi=110)
         plt.close(fig)
 
 
@@ -161,11 +167,14 @@ def main():
     ap.add_argument("--density-relaxation", default="resolution", choices=["auto", "resolution", "step"],
                     help="DFSPH's densityRelaxation (auto: the scene default, resolution with these Akinci walls; "
                          "step: the default before 2026-12-05)")
+    ap.add_argument("--boundary-model", default="Akinci2012", choices=["Akinci2012", "VolumeMap"],
+                    help="the tank's boundary model (VolumeMap: results go to impact_pressure_VolumeMap.*)")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
         treatment, r, max_dt = args.child.split(",")
-        print(json.dumps(measure(treatment, float(r), float(max_dt), args.threads, args.density_relaxation)))
+        print(json.dumps(measure(treatment, float(r), float(max_dt), args.threads, args.density_relaxation,
+                                 args.boundary_model)))
         return
     radii = [float(x) for x in args.radii.split(",")] if args.radii else [0.01, 0.005] if args.quick else [0.01, 0.005, 0.0025]
     treatments = args.treatments.split(",")
@@ -181,7 +190,7 @@ def main():
             base = next(x for x in results if x["key"] == (t, r, 0.0))
             max_dt = round(0.5 ** int(max_dt[4:]) * base.get("mean_dt", 0.001), 7)
         cmd = [sys.executable, __file__, "--child", f"{t},{r},{max_dt}", "--threads", str(args.threads),
-               "--density-relaxation", args.density_relaxation]
+               "--density-relaxation", args.density_relaxation, "--boundary-model", args.boundary_model]
         res = subprocess.run(cmd, capture_output=True, text=True, env=env)
         out = json.loads(res.stdout.strip().splitlines()[-1]) if res.returncode == 0 else {
             "error": (res.stderr.strip().splitlines() or ["?"])[-1], "r": r, "max_dt": max_dt}
@@ -190,7 +199,7 @@ def main():
         print(f"{t} r={r} dt<={max_dt}: " + ", ".join(f"{k} {out[k]:.4g}" for k in
               ("arrival", "peak", "peak_short", "peak_smooth", "impulse", "impulse_fixed", "noise", "late", "wall") if k in out), flush=True)
     precision = next((x["precision"] for x in results if "precision" in x), "?")
-    lines = [f"Machine: {machine_line()}; {args.threads} thread(s); {precision}; DFSPH, Akinci walls, probes of radius "
+    lines = [f"Machine: {machine_line()}; {args.threads} thread(s); {precision}; DFSPH, {args.boundary_model} walls, probes of radius "
              f"{PROBE_RADIUS} m on the far wall, densityRelaxation {args.density_relaxation}, p / rho0 g H (H = {H} m), "
              "impulse / (rho0 g H s).", "",
              "| treatment | r, m | max dt, s | mean dt, s | arrival, s | peak raw | peak 2 ms | peak 5 ms | "
@@ -227,14 +236,14 @@ def main():
     table = "\n".join(lines) + "\n"
     print(table)
     os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
-    with open(os.path.join(HERE, "results", "impact_pressure.md"), "w") as out:
+    with open(os.path.join(HERE, "results", f"impact_pressure{suffix(args.boundary_model)}.md"), "w") as out:
         out.write(table)
-    with open(os.path.join(HERE, "results", "impact_pressure.csv"), "w") as out:
+    with open(os.path.join(HERE, "results", f"impact_pressure{suffix(args.boundary_model)}.csv"), "w") as out:
         out.write("treatment,r,max_dt,t,low\n")
         for x in results:
             for ti, pi in zip(x.get("t", []), x.get("low", [])):
                 out.write(f"{x['key'][0]},{x['r']},{x['max_dt']},{ti:.6f},{pi:.3f}\n")
-    plot(results, treatments)
+    plot(results, treatments, args.boundary_model)
 
 
 if __name__ == "__main__":
