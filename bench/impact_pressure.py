@@ -165,7 +165,7 @@ def main():
     ap.add_argument("--radii", help="comma-separated particle radii (default 0.01,0.005,0.0025)")
     ap.add_argument("--build", default="build", help="build folder whose python/ module to run")
     ap.add_argument("--density-relaxation", default="resolution", choices=["auto", "resolution", "step"],
-                    help="DFSPH's densityRelaxation (auto: the scene default, resolution with these Akinci walls; "
+                    help="DFSPH's densityRelaxation (auto: the scene default, resolution on Akinci walls, step on volume maps; "
                          "step: the default before 2026-12-05)")
     ap.add_argument("--boundary-model", default="Akinci2012", choices=["Akinci2012", "VolumeMap"],
                     help="the tank's boundary model (VolumeMap: results go to impact_pressure_VolumeMap.*)")
