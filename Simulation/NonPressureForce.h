@@ -16,6 +16,11 @@ class NonPressureForce {
   // The largest time step at which this force stays stable, s (an explicit diffusion's limit);
   // infinity when it sets none. Bounds the default maximum step (Simulation's timeStepCap).
   virtual Real maxStableTimeStep(const CubicSplineKernel&) const { return std::numeric_limits<Real>::infinity(); }
+  // The largest stable step for the particles the last addAccelerations saw, s; infinity when it
+  // sets none. Bounds every step like the CFL condition (a user's maxTimeStep included): an
+  // explicit diffusion is unstable where its local coefficient exceeds what
+  // maxStableTimeStep assumed (a free surface's sparse, light particles).
+  virtual Real stepLimit() const { return std::numeric_limits<Real>::infinity(); }
 };
 
 }  // namespace consph

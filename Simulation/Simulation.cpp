@@ -542,6 +542,14 @@ void Simulation::updateTimeStep() {
     const Real factor = lastPressureIterations_ > 10 ? Real(0.9) : lastPressureIterations_ < 5 ? Real(1.1) : Real(1);
     dt = std::min(dt, factor * dtOld);
   }
+  // Explicit forces' local stability bounds for the particles they just saw (a viscosity at a
+  // free surface), like the CFL condition under a cap the user gave as well.
+  bool forceLimited = false;
+  for (const auto& force : forces_) {
+    const Real limit = force->stepLimit();
+    if (limit < dt && limit < timeStepCap_) dt = limit, forceLimited = true;
+  }
+  if (forceLimited) ++stats_.stabilityLimitedSteps;
   dt_ = std::clamp(dt, scene_.minTimeStep, timeStepCap_);
 }
 
@@ -790,6 +798,7 @@ json Simulation::summary() const {
       {"averageDensityErrorPercent", 100.0 * s.densityErrorSum / errSamples},
       {"maxDensityErrorPercent", 100.0 * s.densityErrorMax},
       {"iterationCapHits", s.iterationCapHits},
+      {"stabilityLimitedSteps", s.stabilityLimitedSteps},
       {"maxTimeStep", timeStepCap_},
       {"particlesLost", particlesLost()},
       {"particlesEmitted", s.particlesEmitted},

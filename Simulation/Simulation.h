@@ -29,6 +29,8 @@ struct SimulationStats {
   double densityErrorSum = 0, densityErrorMax = 0;  // fraction of rho0, over measured steps
   std::size_t densityErrorSamples = 0;
   std::size_t iterationCapHits = 0, consecutiveCapHits = 0;
+  // Steps an explicit force's local stability bound shortened (NonPressureForce::stepLimit).
+  std::size_t stabilityLimitedSteps = 0;
   std::size_t particlesEmitted = 0, particlesRemoved = 0;  // by emitters / removeOutside
   std::size_t particlesDroppedInsideBodies = 0;            // at start-up, inside closed bodies
   // seconds per phase

@@ -1,5 +1,6 @@
 #include "Plugins/Viscosity/Viscosity_Standard.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <limits>
 
@@ -47,15 +48,52 @@ void Viscosity_Standard::addAccelerations(StepContext& ctx) {
   const FluidView& f = ctx.fluid;
   const Real eps = regularisation(ctx.kernel), rho0 = f.density0();
   const bool boundary = boundaryViscosity_ > 0;
-  parallelFor(f.size(), [&](std::size_t i) {
+  // The local stability bound (stepLimit). Written per pair, a_i = -sum_j c_ij P_ij (v_i - v_j)
+  // with P_ij = x^_ij x^_ij^T and c_ij = 10 nu (rho0 / rho_i) (m_j / rho_j) |x_ij . grad W_ij|
+  // / (|x_ij|^2 + eps) >= 0 (grad W_ij points along -x_ij), plus the boundary's c_ik P_ik v_i.
+  // Explicit Euler on v' = -L v is stable for dt lambda_max(L) <= 2. A velocity that alternates
+  // against its neighbours (the fastest mode: on a lattice it is L's largest eigenvalue) is
+  // damped at the rate lambda_i = lambda_max(2 F_i + B_i), F_i = sum_j c_ij P_ij and
+  // B_i = sum_k c_ik P_ik; so dt <= 2 / max_i lambda_i. In the bulk this is 3 / sum_j c_ij,
+  // 0.90 ms at r = 0.004, nu = 0.01 (Morris' 0.125 h^2 / nu: 0.80 ms); a free surface's particles
+  // have fewer neighbours but rho0 / rho_i and m_j / rho_j up to 2-3 times larger, and a 1 m
+  // column's top corner at r = 0.004 oscillated step against step at 0.72 ms until it left at
+  // 8 m/s (issue 15; docs/forces.md, "Stability").
+  const Real largest = parallelMax(f.size(), Real(0), [&](std::size_t i) {
     const Real rhoi = f.densities[i];
+    const Vector3r xi = f.positions[i];
     // ViscosityLaplacian.h: fluid and boundary terms.
     Vector3r a = (kLaplacianFactor * viscosity_ * rho0 / rhoi) * fluidSum(f, ctx.fluidNeighbors, i, f.velocities.data(), eps);
-    if (boundary)
+    Matrix3r rate = Matrix3r::Zero();  // 2 F_i + B_i without the factors 10 nu / rho_i
+    const NeighborLists& fn = ctx.fluidNeighbors;
+    for (Index e = fn.begin(i); e < fn.end(i); ++e) {
+      const Index j = fn.indices[e];
+      const Vector3r xij = xi - f.positions[j];
+      const Real r2 = xij.squaredNorm();
+      if (r2 <= 0) continue;
+      const Real w = -Real(2) * viscosity_ * rho0 * (f.masses[j] / f.densities[j]) * xij.dot(fn.gradW[e]) / ((r2 + eps) * r2);
+      rate.noalias() += w * xij * xij.transpose();
+    }
+    if (boundary) {
       a += (kLaplacianFactor * boundaryViscosity_ / rhoi) *
-           boundarySum(ctx.boundary, ctx.boundaryNeighbors, i, f.positions[i], f.velocities[i], eps, true);
+           boundarySum(ctx.boundary, ctx.boundaryNeighbors, i, xi, f.velocities[i], eps, true);
+      const NeighborLists& bn = ctx.boundaryNeighbors;
+      for (Index e = bn.begin(i); e < bn.end(i); ++e) {
+        const Index k = bn.indices[e];
+        const Vector3r xik = xi - ctx.boundary.positions[k];
+        const Real r2 = xik.squaredNorm();
+        if (r2 <= 0) continue;
+        const Real w = -boundaryViscosity_ * ctx.boundary.masses[k] * xik.dot(bn.gradW[e]) / ((r2 + eps) * r2);
+        rate.noalias() += w * xik * xik.transpose();
+      }
+    }
     f.accelerations[i] += a;
+    // The largest eigenvalue of the symmetric 3 x 3 rate matrix.
+    Eigen::SelfAdjointEigenSolver<Matrix3r> eig;
+    eig.computeDirect(rate, Eigen::EigenvaluesOnly);
+    return kLaplacianFactor / rhoi * std::max(eig.eigenvalues()[2], Real(0));
   });
+  stepLimit_ = largest > 0 ? Real(2) / largest : std::numeric_limits<Real>::infinity();
 }
 
 }  // namespace consph

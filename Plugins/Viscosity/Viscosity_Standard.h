@@ -6,8 +6,12 @@
 //   a_i += nu (laplacian v)_i.
 // Parameters: `viscosity` nu and `boundaryViscosity` nu_b, kinematic viscosities in m^2/s.
 // Explicit: stable for dt <= 0.125 h^2 / nu (Morris et al. 1997, Section 2.3, h the smoothing
-// length: half the cubic spline's support); use Weiler2018 for very viscous fluids.
+// length: half the cubic spline's support) in the bulk, the default cap; and every step for
+// dt <= 2 / lambda_i at every particle (stepLimit): the local bound from the operator itself,
+// which is lower at a free surface (docs/forces.md, "Stability"). Use Weiler2018 for very viscous fluids.
 #pragma once
+#include <limits>
+
 #include "Simulation/NonPressureForce.h"
 #include "Simulation/Params.h"
 
@@ -21,12 +25,14 @@ class Viscosity_Standard final : public NonPressureForce {
   explicit Viscosity_Standard(const Params& params);
   void addAccelerations(StepContext& ctx) override;
   Real maxStableTimeStep(const CubicSplineKernel& kernel) const override;
+  Real stepLimit() const override { return stepLimit_; }
   static std::vector<ParamSpec> parameters();
 
  private:
   // The parameters, each declared once with the member it sets (Simulation/ParamBinding.h).
   static const BoundParams<Viscosity_Standard>& bound();
   Real viscosity_, boundaryViscosity_;
+  Real stepLimit_ = std::numeric_limits<Real>::infinity();  // s, of the last addAccelerations
 };
 
 }  // namespace consph

@@ -172,3 +172,51 @@ TEST(ForcesViscosity, Weiler2018WarmStartReusesLastVelocityChange) {
 }
 
 }  // namespace
+
+// The explicit viscosity's local step bound (Viscosity_Standard::stepLimit). Two particles alone
+// at distance d along x: a_1 = -c (v_1 - v_2) along x with c = 10 nu (rho0 / rho) (m / rho)
+// |W'(d)| d / (d^2 + 0.01 h^2), so explicit Euler scales the relative velocity by 1 - 2 c dt per
+// step: stable exactly for dt <= 1 / c. The bound must be that value, and the pair must decay
+// just under it and grow just over it (rho = m (W(0) + W(d)) = 0.17 rho0 here: five times the
+// bulk's coefficient per neighbour, the light free-surface particles the bound is for).
+TEST(ForcesViscosity, StandardStepLimitIsThePairsStabilityBound) {
+  const Real d = 0.01, nu = 0.01;
+  ParticleSet set({Vector3r(0, 0, 0), Vector3r(d, 0, 0)}, d);
+  auto viscosity = set.create("StandardViscosity", json{{"viscosity", nu}});
+  set.accelerations(*viscosity, Real(1e-4));
+  const Real rho = set.fluid.densities[0], m = set.fluid.masses[0], h = set.kernel.supportRadius();
+  const Real dW = std::abs(set.kernel.gradW(Vector3r(d, 0, 0))[0]);
+  const Real c = 10 * nu * (set.fluid.density0() / rho) * (m / rho) * dW * d / (d * d + Real(0.01) * h * h);
+  EXPECT_NEAR(viscosity->stepLimit(), 1 / c, 1e-9 / c);
+  auto growth = [&](Real dt) {
+    set.fluid.velocities = {Vector3r(1, 0, 0), Vector3r(-1, 0, 0)};
+    for (int s = 0; s < 100; ++s) {
+      const auto a = set.accelerations(*viscosity, dt);
+      for (int i = 0; i < 2; ++i) set.fluid.velocities[i] += dt * a[i];
+    }
+    return std::abs(set.fluid.velocities[0][0] - set.fluid.velocities[1][0]) / 2;
+  };
+  EXPECT_LT(growth(Real(0.98) * viscosity->stepLimit()), Real(1));
+  EXPECT_GT(growth(Real(1.02) * viscosity->stepLimit()), Real(1));
+}
+
+// A block with free surfaces, random velocities, stepped at the bound for 300 steps (positions
+// fixed): its kinetic energy only falls, every step.
+TEST(ForcesViscosity, StandardStepLimitKeepsABlockStable) {
+  const Real d = 0.01, nu = 0.01;
+  ParticleSet set(6, 6, 6, d);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<Real> u(-1, 1);
+  for (auto& v : set.fluid.velocities) v = Vector3r(u(rng), u(rng), u(rng));
+  auto viscosity = set.create("StandardViscosity", json{{"viscosity", nu}});
+  set.accelerations(*viscosity, Real(1e-4));
+  const Real dt = viscosity->stepLimit();
+  Real energy = kineticEnergy(set.fluid);
+  for (int s = 0; s < 300; ++s) {
+    const auto a = set.accelerations(*viscosity, dt);
+    for (std::size_t i = 0; i < set.fluid.size(); ++i) set.fluid.velocities[i] += dt * a[i];
+    const Real e = kineticEnergy(set.fluid);
+    ASSERT_LE(e, energy * (1 + 1e-12)) << "step " << s;
+    energy = e;
+  }
+}

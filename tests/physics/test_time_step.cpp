@@ -219,3 +219,27 @@ TEST(TimeStep, NoStepThrowsParticlesOutOfADrainingCorner) {
     EXPECT_LT(largestRise, 0.005) << "maxTimeStep " << maxDt;
   }
 }
+
+// The explicit viscosity's local stability bound (Viscosity_Standard::stepLimit) shortens a step
+// the way the CFL condition does, also under a maxTimeStep the scene gives: a 3 x 3 x 3 cube at
+// rest without gravity (CFL sets no bound) at nu = 0.1 steps at its bound, below the cap, and
+// every step counts in the summary's stabilityLimitedSteps; without the viscosity it takes the
+// cap. The bound's value is tested in test_forces_viscosity.cpp.
+TEST(TimeStep, TheExplicitViscositysLocalBoundShortensTheStep) {
+  json s = json::parse(R"({
+    "simulation": {"particleRadius": 0.01, "maxTimeStep": 0.01, "gravity": [0, 0, 0]},
+    "fluids": [{"forces": [{"type": "StandardViscosity", "viscosity": 0.1}],
+                "blocks": [{"min": [0, 0, 0], "max": [0.06, 0.06, 0.06]}]}]})");
+  auto sim = test::simulationFromJson(s);
+  ASSERT_EQ(sim->fluid().size(), 27u);
+  for (int k = 0; k < 3; ++k) sim->step();
+  EXPECT_LT(sim->dt(), 0.01);
+  EXPECT_GT(sim->dt(), 0.0);
+  EXPECT_EQ(sim->stats().stabilityLimitedSteps, 3u);
+  EXPECT_EQ(sim->summary()["stabilityLimitedSteps"].get<std::size_t>(), 3u);
+  s["fluids"][0]["forces"] = json::array();
+  auto inviscid = test::simulationFromJson(s);
+  inviscid->step();
+  EXPECT_DOUBLE_EQ(inviscid->dt(), 0.01);
+  EXPECT_EQ(inviscid->stats().stabilityLimitedSteps, 0u);
+}
