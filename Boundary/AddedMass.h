@@ -8,7 +8,9 @@
 // exact: the body takes the net impulse N = J + m g dt together with an added mass m_a of the
 // fluid touching it, dv = N / (m + m_a) (and I + I_a for the angular impulse), and the touching
 // fluid takes the rest of N as a rigid increment of its own velocities, so that body plus
-// fluid gain exactly N and the angular impulse, as without it.
+// fluid gain exactly N and the angular impulse, as without it. A touching cloud that cannot
+// take an angular impulse of its own (one or two particles, a line) moves with the body by the
+// added share instead: momentum still exact, angular momentum not (AddedMass.cpp).
 #pragma once
 #include <vector>
 
@@ -22,6 +24,11 @@ namespace consph {
 // 1/2 is the added-mass coefficient of a sphere in potential flow (Lamb 1932, Sec. 92); a
 // cube's is about 0.7, so the lightest bodies rise somewhat slower than they would.
 inline constexpr Real kAddedMassCoefficient = Real(0.5);
+
+// The smallest to largest principal moment of the touching fluid about its own centre below
+// which it counts as degenerate (a point or a line of particles: 0 up to round-off; a flat
+// layer under a box has 1/2) and moves with the body.
+inline constexpr Real kMinInertiaRatio = Real(1e-4);
 
 // The body's velocity increments from the net impulse N and the angular impulse L about its
 // centre with the added mass `addedMass` of the fluid particles `touching`; the rest of the
