@@ -34,6 +34,29 @@ inline Vector3r fluidSum(const FluidView& f, const NeighborLists& fn, std::size_
   return s;
 }
 
+// fluidSum for the velocities, and in the same pass the upper triangle (xx, yy, zz, xy, xz, yz)
+// of its rate matrix sum_j (m_j / rho_j) |x_ij . grad W_ij| / ((|x_ij|^2 + eps) |x_ij|^2) x_ij x_ij^T:
+// how fast the sum changes with v_i (Viscosity_Standard's step bound), at six multiply-adds per
+// neighbour and no second visit.
+inline Vector3r fluidSumWithRate(const FluidView& f, const NeighborLists& fn, std::size_t i, Real eps, Real (&rate)[6]) {
+  const Vector3r xi = f.positions[i], vi = f.velocities[i];
+  Vector3r s = Vector3r::Zero();
+  // Local accumulators: the compiler cannot keep `rate` in registers (it could alias the fields).
+  Vector3r diagonal = Vector3r::Zero(), offDiagonal = Vector3r::Zero();  // (xx, yy, zz), (xy, xz, yz)
+  for (Index e = fn.begin(i); e < fn.end(i); ++e) {
+    const Index j = fn.indices[e];
+    const Vector3r xij = xi - f.positions[j];
+    const Real weight = (f.masses[j] / f.densities[j]) / (xij.squaredNorm() + eps);
+    s += (weight * (vi - f.velocities[j]).dot(xij)) * fn.gradW[e];
+    // grad W_ij = W'(r) x_ij / r is parallel to x_ij, so |x . grad W| x x^T / |x|^2 = -x grad W^T.
+    const Vector3r g = -weight * fn.gradW[e];
+    diagonal += xij.cwiseProduct(g);
+    offDiagonal += Vector3r(xij[0], xij[0], xij[1]).cwiseProduct(Vector3r(g[1], g[2], g[2]));
+  }
+  for (int c = 0; c < 3; ++c) rate[c] += diagonal[c], rate[3 + c] += offDiagonal[c];
+  return s;
+}
+
 // sum_k m~_k ((ui - w_k) . x_ik) / (|x_ik|^2 + eps) grad W_ik, with w_k the boundary velocity
 // (withBoundaryVelocity) or zero (the part of the term that is linear in ui).
 inline Vector3r boundarySum(const BoundaryView& b, const NeighborLists& bn, std::size_t i, const Vector3r& xi, const Vector3r& ui,
