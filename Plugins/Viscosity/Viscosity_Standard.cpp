@@ -1,5 +1,6 @@
 #include "Plugins/Viscosity/Viscosity_Standard.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -59,12 +60,16 @@ void Viscosity_Standard::addAccelerations(StepContext& ctx) {
   // have fewer neighbours but rho0 / rho_i and m_j / rho_j up to 2-3 times larger, and a 1 m
   // column's top corner at r = 0.004 oscillated step against step at 0.72 ms until it left at
   // 8 m/s (issue 15; docs/forces.md, "Stability").
-  // lambda_max of the symmetric positive semi-definite 3 x 3 matrix is taken as its largest
-  // absolute row sum (Gershgorin): at most 3 times too large where one direction dominates, exact
-  // where the neighbours surround the particle. Cost: the forces' phase 0.67-0.75 -> 1.10 s over
-  // 139 steps of DamBreak at r = 0.0125, 2 threads: 3 ms of a 77 ms step (an eigen-solve per
-  // particle in a separate pass: 2.4 s).
-  const Real largest = parallelMax(f.size(), Real(0), [&](std::size_t i) {
+  // lambda_max of the symmetric positive semi-definite 3 x 3 matrix, exactly (Eigen's closed
+  // form), but only where its largest absolute row sum (Gershgorin, an upper bound: exact where
+  // the neighbours surround the particle, up to 3 times too large where one direction dominates)
+  // exceeds the largest eigenvalue this thread has found so far: the result is the exact maximum,
+  // and the eigen-solves are few. Gershgorin alone cost 10-47 % more steps in the stress suite's
+  // fine columns. Cost: the forces' phase 0.67-0.75 -> 1.1 s over 139 steps of DamBreak at
+  // r = 0.0125, 2 threads: 3 ms of a 77 ms step (an eigen-solve per particle in a separate
+  // pass: 2.4 s).
+  const Real largest = parallelReduce(f.size(), Real(0), [](Real& into, Real from) { into = std::max(into, from); },
+                                      [&](std::size_t i, Real& largestSoFar) {
     const Real rhoi = f.densities[i];
     Real rate[6] = {0, 0, 0, 0, 0, 0};  // 2 F_i + B_i without the factor 10 / rho_i: xx yy zz xy xz yz
     // ViscosityLaplacian.h: fluid and boundary terms.
@@ -92,7 +97,13 @@ void Viscosity_Standard::addAccelerations(StepContext& ctx) {
     const Real rowX = std::abs(rate[0]) + std::abs(rate[3]) + std::abs(rate[4]);
     const Real rowY = std::abs(rate[3]) + std::abs(rate[1]) + std::abs(rate[5]);
     const Real rowZ = std::abs(rate[4]) + std::abs(rate[5]) + std::abs(rate[2]);
-    return kLaplacianFactor / rhoi * std::max({rowX, rowY, rowZ});
+    const Real scale = kLaplacianFactor / rhoi;
+    if (!(scale * std::max({rowX, rowY, rowZ}) > largestSoFar)) return;
+    Matrix3r m;
+    m << rate[0], rate[3], rate[4], rate[3], rate[1], rate[5], rate[4], rate[5], rate[2];
+    Eigen::SelfAdjointEigenSolver<Matrix3r> eig;
+    eig.computeDirect(m, Eigen::EigenvaluesOnly);
+    largestSoFar = std::max(largestSoFar, scale * eig.eigenvalues()[2]);
   });
   stepLimit_ = largest > 0 ? Real(2) / largest : std::numeric_limits<Real>::infinity();
 }
