@@ -64,10 +64,10 @@ void Viscosity_Standard::addAccelerations(StepContext& ctx) {
   // form), but only where its largest absolute row sum (Gershgorin, an upper bound: exact where
   // the neighbours surround the particle, up to 3 times too large where one direction dominates)
   // exceeds the largest eigenvalue this thread has found so far: the result is the exact maximum,
-  // and the eigen-solves are few. Gershgorin alone cost 10-47 % more steps in the stress suite's
-  // fine columns. Cost: the forces' phase 0.67-0.75 -> 1.1 s over 139 steps of DamBreak at
-  // r = 0.0125, 2 threads: 3 ms of a 77 ms step (an eigen-solve per particle in a separate
-  // pass: 2.4 s).
+  // and the eigen-solves are few. Gershgorin's bound alone took 3-18 % more steps than this in the
+  // stress suite's fine columns and filled tank. Cost: the forces' phase 0.75 -> 1.1 s over 139
+  // steps of DamBreak at r = 0.0125, 2 threads: 2.4 ms of a 77-80 ms step (an eigen-solve per
+  // particle in a pass of its own: 11 ms).
   const Real largest = parallelReduce(f.size(), Real(0), [](Real& into, Real from) { into = std::max(into, from); },
                                       [&](std::size_t i, Real& largestSoFar) {
     const Real rhoi = f.densities[i];
