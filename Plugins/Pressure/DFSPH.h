@@ -29,6 +29,7 @@ class DFSPH final : public PressureSolver {
  private:
   struct Settings {
     Real maxError;            // fraction of rho0 (average compression)
+    Real maxErrorParticle;    // fraction of rho0 (any one particle's compression), 0: off
     Real maxErrorDivergence;  // fraction of rho0 per time step
     int minIterations, maxIterations, maxIterationsDivergence;
     bool divergenceSolver, warmStart;
@@ -46,8 +47,9 @@ class DFSPH final : public PressureSolver {
   // Applies (a scaled half of) last step's accumulated beta, or zeroes it.
   void warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale);
   // Source of the density solve (rho* - rho0, Eq. 6) or of the divergence solve (D rho / Dt);
-  // returns the average error as a fraction of rho0 (times dt for divergence).
-  Real computeSources(StepContext& ctx, bool divergence);
+  // returns the average error as a fraction of rho0 (times dt for divergence), and the largest
+  // single particle's in `largest` (density solve only).
+  Real computeSources(StepContext& ctx, bool divergence, Real* largest = nullptr);
   // v_i -= dt (sum_j m_j (k_i + k_j) grad W_ij + boundary term), Eqs. (16)/(33); `accumulated`
   // is the beta the velocities already carry (extrapolation fits p_k to accumulated + k).
   void applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k, const std::vector<Real>* accumulated);
