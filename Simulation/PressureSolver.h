@@ -13,6 +13,9 @@ struct PressureSolverStats {
   int divergenceIterations = 0;  // last step
   Real densityError = 0;         // last predicted average compression (fraction of rho0)
   Real divergenceError = 0;      // last average divergence error (fraction of rho0)
+  // last predicted compression of the most compressed particle outside a closing gap (fraction of
+  // rho0; DFSPH)
+  Real largestDensityError = 0;
   bool hitIterationCap = false;  // last step ended at maxIterations without converging
 };
 

@@ -68,6 +68,8 @@ class BoundaryPressureTreatment {
   // floor then hovers on the last fluid layers (0.01-0.03 m/s for 5 s), where without it the
   // box came down on its side; that hovering is volume maps' own open problem (issue 15).
   Real diagonalTerm(std::size_t i) const { return diagonalTerm_[i]; }
+  // The squeeze of fluid particle i (as above), after beginStep.
+  Real squeeze(const StepContext& ctx, std::size_t i) const { return squeezeOf(ctx, i, gradientSum_[i]); }
   // Extrapolation: the diagonal's boundary term, Eq. (15)'s plus how p_k = sum_f c_kf p_f moves
   // with p_i, (rho_i^2 / rho0^2) h_i . S_i with h_i = sum_k m~_k c_ki grad W_ik and S_i the full
   // gradient sum (fluid and boundary), where positive. With MLS, c_ki can well exceed 1 next to a

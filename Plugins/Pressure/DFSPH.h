@@ -76,6 +76,7 @@ class DFSPH final : public PressureSolver {
   std::vector<Real>& divergenceBeta_;  // accumulated beta of the divergence solve, sorted field
   std::vector<Real> invDiagonal_;      // 1 / D_i (Eq. 32 without the -dt / rho_i^2 factor)
   std::vector<Real> increment_;        // beta increment of the current iteration
+  std::vector<unsigned char> closingGap_;  // maxErrorParticle: 1 where two objects close in from opposite sides
   BoundaryPressureTreatment treatment_;
   Real divergenceDt_ = 0;                 // the time step the divergence solve of this step used
   std::vector<Real> divergenceBoundaryP_; // extrapolation: p_k of the divergence solve (its total)
