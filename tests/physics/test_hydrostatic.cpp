@@ -13,7 +13,12 @@ namespace {
 
 // Pressure against rho0 g (depth) in a resting column, time-averaged from t = 1 s to 2 s in 10 cm
 // depth bins 20-70 cm below the surface and as a least-squares line, for particles at least 4r
-// from the side walls.
+// from the side walls. The pressure read is the field a user reads (frames, Python, the field
+// "pressure": the kernel average of the solver's pressures, Simulation::updatePressureField). The
+// solver's per-particle multipliers scatter by about rho0 g times one spacing, frozen into the
+// packing, so a time average keeps their pattern: in the narrow column below their fitted slope
+// was 1.0200 with this window and 1.0025 with the window 2.5 cm higher (measured 2026-12-06, AMD
+// EPYC, double), the field's 0.9964 and 0.9968.
 struct PressureProfile {
   static constexpr int bins = 5;
   double ratio[bins] = {};      // mean p / (rho0 g mean depth) per bin
@@ -46,13 +51,15 @@ PressureProfile measurePressureProfile(Simulation& sim, Real boxWidth) {
     out.hitIterationCap |= s.hitIterationCap;
     out.worstConverged = std::max(out.worstConverged, s.densityError);
     if (sim.stepCount() % 5) continue;
+    sim.updatePressureField();
+    const std::vector<Real>& field = sim.fluid().fields().get<Real>("pressure");
     const Real surface = test::surfaceHeight(f, topLayer, halfSpacing);
     for (std::size_t i = 0; i < f.size(); ++i) {
       const Vector3r& x = f.positions[i];
       const int bin = int(std::floor((surface - x[1] - Real(0.2)) / Real(0.1)));
       if (bin < 0 || bin >= PressureProfile::bins) continue;
       if (std::min(x[0], x[2]) < 4 * r || std::max(x[0], x[2]) > boxWidth - 4 * r) continue;
-      const double depth = surface - x[1], p = f.pressures[i];
+      const double depth = surface - x[1], p = field[i];
       pSum[bin] += p;
       depthSum[bin] += depth;
       ++count[bin];
@@ -123,7 +130,8 @@ TEST_P(Hydrostatic, ColumnAtRestDFSPH) {
               maxInteriorSpeed, 100 * trueAverage);
 
   // The single 10 cm bins, skipped in a float build (CONSPH_DOUBLE=OFF) after everything above
-  // was asserted. Measured 2026-11-30 (2 threads; 1 and 3 threads give the same): double 1.0167 /
+  // was asserted. The field (2026-12-06, double): 1.0191 / 1.0124 / 1.0078 / 1.0095 / 1.0041,
+  // slope 0.9964. Before, of the solver's pressures, 2026-11-30 (2 threads; 1 and 3 threads give the same): double 1.0167 /
   // 1.0073 / 1.0095 / 1.0202 / 1.0143, float 1.0307 / 0.9986 / 1.0170 / 1.0226 / 1.0177 (the
   // 0.25 m bin 0.07 points outside 3 %). The fitted line (1.0184 / 1.0186 rho0 g), the true
   // density error (0.00992 / 0.00991 %) and the speeds agree between the builds: the bins are a
@@ -145,6 +153,9 @@ INSTANTIATE_TEST_SUITE_P(Treatments, Hydrostatic, ::testing::Values("consistent"
 //    that mirrors can meet a criterion taken at rest;
 //  - extrapolation: dp/d(depth) = 1.006 rho0 g, bins 1.8-3.6 % high, but not at rest: mean
 //    speed 1.7 cm/s, interior maximum 17 cm/s at t = 2 s.
+// Again 2026-12-06, the pressure field: mirroring slope 1.0564, bins 6.0-6.8 % high, 10.9 cm/s
+// mean speed; extrapolation at rest now (0.95 cm/s mean, 3.8 cm/s interior), slope 1.0050, the
+// 0.25 m bin 3.3 % high (the others 1.5-2.4 %).
 // Kept as a disabled instance so the criterion stays visible and runnable, not loosened.
 INSTANTIATE_TEST_SUITE_P(DISABLED_OtherTreatments, Hydrostatic, ::testing::Values("mirroring", "extrapolation"),
                          [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
@@ -181,9 +192,13 @@ void expectRho0GH(Simulation& sim) {
 
 TEST_P(HydrostaticPressure, AtDepthIsRho0GHInAWideColumn) { expectRho0GH(*wideColumn(GetParam(), "Akinci2012")); }
 
-INSTANTIATE_TEST_SUITE_P(Treatments, HydrostaticPressure, ::testing::Values("extrapolation"),
+INSTANTIATE_TEST_SUITE_P(Treatments, HydrostaticPressure, ::testing::Values("extrapolation", "consistent"),
                          [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
 
+// Measured again 2026-12-06 (AMD EPYC, double), reading the pressure field as above: consistent
+// slope 1.0075, bins 1.014-1.024, within both criteria (so enabled above); mirroring 1.0274, bins
+// 1.029-1.034; extrapolation 1.0070, bins 1.013-1.024. The figures below are of the solver's
+// per-particle pressures.
 // Measured in this wide column (2026-11-23, double, 2 threads): every treatment reads high by
 // about 2-3 % at r = 0.025 (the discrete SPH gradient of a disordered fluid at h = 2.15 lattice
 // spacings; the fluid's mass density, from a 12 r kernel, is only 0.4 % above rho0);
@@ -198,7 +213,7 @@ INSTANTIATE_TEST_SUITE_P(Treatments, HydrostaticPressure, ::testing::Values("ext
 // mirroring reads 1.0273 in that start too (2026-11-23 evening, a Python replica of this profile
 // that reproduces 1.0237 / 1.0252 for the start above). Not adopted as the test's start: the
 // issue's column is this one, and the criterion should not depend on choosing a start.
-INSTANTIATE_TEST_SUITE_P(DISABLED_AboveTwoPercent, HydrostaticPressure, ::testing::Values("consistent", "mirroring"),
+INSTANTIATE_TEST_SUITE_P(DISABLED_AboveTwoPercent, HydrostaticPressure, ::testing::Values("mirroring"),
                          [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
 
 
@@ -206,4 +221,5 @@ INSTANTIATE_TEST_SUITE_P(DISABLED_AboveTwoPercent, HydrostaticPressure, ::testin
 // Measured: slope 0.9992 in this column with the default 2r cells, 0.9925 with r cells (a Python
 // replica of the profile, r cells: mirroring 1.077, extrapolation 0.9955); in the narrow column
 // of Hydrostatic.json, whose interior is never more than 6 r from a wall layer, 0.965 (r cells).
+// Reading the pressure field (2026-12-06, AMD EPYC, double): slope 1.0040, bins 1.012-1.027.
 TEST(HydrostaticPressureVolumeMap, AtDepthIsRho0GHInAWideColumn) { expectRho0GH(*wideColumn("consistent", "VolumeMap")); }
