@@ -19,6 +19,7 @@ void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
   diagonalTerm_.resize(n);
   // The squeeze of the consistent diagonal (diagonalTerm), on sampled walls only.
   const bool squeeze = !classicalDiagonal_ && !ctx.implicitBoundary;
+  squeeze_.resize(keepSqueeze_ ? n : 0);
   parallelFor(n, [&](std::size_t i) {
     Vector3r g = Vector3r::Zero();
     Real squares = 0;
@@ -28,7 +29,9 @@ void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
       squares += mk * bn.gradW[e].squaredNorm();
     }
     gradientSum_[i] = g;
-    const Real weight = classicalDiagonal_ ? Real(1) : squeeze ? squeezeOf(ctx, i, g) : Real(0);
+    const Real squeezeI = squeeze || keepSqueeze_ ? squeezeOf(ctx, i, g) : Real(0);
+    if (keepSqueeze_) squeeze_[i] = squeezeI;
+    const Real weight = classicalDiagonal_ ? Real(1) : squeeze ? squeezeI : Real(0);
     diagonalTerm_[i] = weight * f.masses[i] * squares;  // Eq. (15), weighted
   });
   if (extrapolates()) computeMlsCoefficients(ctx);

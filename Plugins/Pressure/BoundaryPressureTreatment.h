@@ -68,8 +68,11 @@ class BoundaryPressureTreatment {
   // floor then hovers on the last fluid layers (0.01-0.03 m/s for 5 s), where without it the
   // box came down on its side; that hovering is volume maps' own open problem (issue 15).
   Real diagonalTerm(std::size_t i) const { return diagonalTerm_[i]; }
-  // The squeeze of fluid particle i (as above), after beginStep.
-  Real squeeze(const StepContext& ctx, std::size_t i) const { return squeezeOf(ctx, i, gradientSum_[i]); }
+  // Asks every beginStep to keep each particle's squeeze (as above) for squeeze(i), also where
+  // the diagonal does not weight by it (DFSPH's maxErrorParticle tells closing gaps by it).
+  void keepSqueeze() { keepSqueeze_ = true; }
+  // The squeeze of fluid particle i, after beginStep; only after keepSqueeze().
+  Real squeeze(std::size_t i) const { return squeeze_[i]; }
   // Extrapolation: the diagonal's boundary term, Eq. (15)'s plus how p_k = sum_f c_kf p_f moves
   // with p_i, (rho_i^2 / rho0^2) h_i . S_i with h_i = sum_k m~_k c_ki grad W_ik and S_i the full
   // gradient sum (fluid and boundary), where positive. With MLS, c_ki can well exceed 1 next to a
@@ -170,6 +173,8 @@ class BoundaryPressureTreatment {
   Real invRho0Squared_ = 0;
   std::vector<Vector3r> gradientSum_;  // (n fluid) g_i = sum_k m~_k grad W_ik
   std::vector<Real> diagonalTerm_;     // (n fluid) sum_k m_i m~_k |grad W_ik|^2 (consistent: times the squeeze)
+  bool keepSqueeze_ = false;
+  std::vector<Real> squeeze_;          // (n fluid) the squeeze, with keepSqueeze() only
   NeighborLists boundaryToFluid_;      // boundary k -> fluid f (extrapolation only)
   std::vector<Real> mlsCoefficients_;  // (pairs of boundaryToFluid_) c_kf
   std::vector<Real> pk_, pkChange_;    // (n boundary) p_k and its last change, Pa

@@ -67,6 +67,7 @@ DFSPH::DFSPH(const Params& p, FluidModel& fluid, BoundaryPressure treatment)
   bound().assign(p, settings_);
   if (settings_.minIterations > settings_.maxIterations)
     throw InputError(p.pathOf("minIterations") + ": must not exceed maxIterations");
+  if (settings_.maxErrorParticle > 0) treatment_.keepSqueeze();  // closingGap_ (computeDiagonal)
 }
 
 void DFSPH::computeDiagonal(StepContext& ctx) {
@@ -91,7 +92,7 @@ void DFSPH::computeDiagonal(StepContext& ctx) {
   // average still counts it.
   if (settings_.maxErrorParticle > 0) {
     closingGap_.resize(n);
-    parallelFor(n, [&](std::size_t i) { closingGap_[i] = treatment_.squeeze(ctx, i) > kClosingGapSqueeze; });
+    parallelFor(n, [&](std::size_t i) { closingGap_[i] = treatment_.squeeze(i) > kClosingGapSqueeze; });
   }
 }
 
