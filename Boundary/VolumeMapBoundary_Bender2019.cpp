@@ -100,6 +100,12 @@ const BoundParams<VolumeMapBoundary_Bender2019::Settings>& VolumeMapBoundary_Ben
             "lies on the mesh (1.35 r with the defaults); 0: the mesh itself (Bender et al. 2019)",
             -1.0, 4.0},
            &Settings::surfaceOffset),
+      bind({"approachTolerance", ParamType::Real, 0.0,
+            "% of rho0: each step is at most as long as keeps the boundary density a particle moves into within this "
+            "of its linear prediction (a particle driven into a corner was compressed to 1.5 rho0 and thrown back at "
+            "12.8 m/s; 1 stops that at 1.8x the steps of a dam break: bench/RESULTS.md); 0, the default: off",
+            0.0, 100.0},
+           &Settings::approachTolerance),
       bind({"offsetObjects",
             ParamType::String,
             "auto",
@@ -138,6 +144,7 @@ VolumeMapBoundary_Bender2019::VolumeMapBoundary_Bender2019(const Settings& setti
     : particleRadius_(particleRadius),
       fluidSpacing_(fluidSpacing),
       cellSize_(settings.cellSize * particleRadius),
+      approachTolerance_(settings.approachTolerance / 100),
       requestedOffset_(settings.surfaceOffset < 0 ? Real(-1) : settings.surfaceOffset * particleRadius),
       offsetObjects_(settings.offsetObjects),
       splitContainers_(settings.containers == "walls"),
@@ -306,6 +313,35 @@ bool VolumeMapBoundary_Bender2019::virtualParticle(std::size_t piece, const Vect
   gradient = (kernel.W(s) / volume) * volumeGradient;
   if (follows) gradient += kernel.dWdr(s) * phiGradient.normalized();
   return true;
+}
+
+Real VolumeMapBoundary_Bender2019::approachStepLimit(const FluidModel& fluid, const CubicSplineKernel& kernel) const {
+  // rho_b(x) = sum over pieces m~ W(s); its second derivative along the particle's motion u by
+  // central differences over delta = r / 2: the linear prediction misses 1/2 kappa (|v| dt)^2.
+  const Real tolerance = approachTolerance_;
+  if (tolerance <= 0) return std::numeric_limits<Real>::infinity();
+  const Real delta = Real(0.5) * particleRadius_;
+  const std::size_t pieces = pieces_.size();
+  auto density = [&](const Vector3r& x) {
+    Real rho = 0;
+    Vector3r xk, gk;
+    Real mk;
+    for (std::size_t p = 0; p < pieces; ++p)
+      if (virtualParticle(p, x, kernel, xk, mk, gk)) rho += mk * kernel.W(x - xk);
+    return rho;
+  };
+  const Real rho0 = density0_;
+  return parallelMax(fluid.size(), -std::numeric_limits<Real>::infinity(), [&](std::size_t i) {
+    const Vector3r v = fluid.velocities[i];
+    const Real speed = v.norm();
+    if (speed < Real(1e-6)) return -std::numeric_limits<Real>::infinity();
+    const Vector3r x = fluid.positions[i], u = v / speed;
+    const Real r0 = density(x), rp = density(x + delta * u);
+    if (r0 <= 0 && rp <= 0) return -std::numeric_limits<Real>::infinity();
+    const Real kappa = (rp - 2 * r0 + density(x - delta * u)) / (delta * delta);
+    if (kappa <= 0) return -std::numeric_limits<Real>::infinity();
+    return -std::sqrt(2 * tolerance * rho0 / kappa) / speed;  // the largest -dt is the smallest dt
+  }) * Real(-1);
 }
 
 Vector3r VolumeMapBoundary_Bender2019::impulseInBox(Index k, const Vector3r& x, const Vector3r& impulse, const Vector3r& lo,

@@ -63,6 +63,14 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
 
   static std::vector<ParamSpec> parameters();
   // The maps: one per object, or one per wall of a box container ("containers": "walls").
+  // approachTolerance > 0: the longest step over which the boundary density at each fluid particle,
+  // moving on at its velocity, stays within approachTolerance rho0 of its linear prediction
+  // (the density solve's): 1/2 kappa (|v| dt)^2 <= e rho0, kappa = d^2 rho_b / du^2 along the
+  // motion u by central differences over r / 2. Towards a wall, and most in a corner, rho_b
+  // grows faster than linearly: without it a particle sliding into a floor / wall corner at 4.4
+  // m/s (0.53 r per step) was compressed to 1.54 rho0 beyond what the solve saw and thrown back
+  // at 12.8 m/s (bench/RESULTS.md). Fluid velocities, not relative to a moving body.
+  Real approachStepLimit(const FluidModel& fluid, const CubicSplineKernel& kernel) const override;
   std::size_t mapCount() const { return pieces_.size(); }
   const VolumeMap& pieceMap(std::size_t piece) const { return *pieces_[piece].map; }
   std::size_t pieceObject(std::size_t piece) const { return pieces_[piece].object; }
@@ -85,7 +93,7 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   // declared once with its place here (Simulation/ParamBinding.h); the constructor derives the
   // members below from them.
   struct Settings {
-    Real cellSize, surfaceOffset;
+    Real cellSize, surfaceOffset, approachTolerance;
     std::string offsetObjects, cache, containers;
   };
   static const BoundParams<Settings>& bound();
@@ -104,6 +112,7 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   Real particleRadius_;
   Real fluidSpacing_;          // m, the fluid lattice spacing d
   Real cellSize_;              // m
+  Real approachTolerance_;     // fraction of rho0; 0: no approach step limit
   Real requestedOffset_;       // m; negative: computed, D - d/2
   std::string offsetObjects_;  // "auto", "all" or "none"
   bool splitContainers_;       // "containers": "walls"

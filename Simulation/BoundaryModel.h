@@ -2,6 +2,7 @@
 // A model turns the scene's boundary objects into BoundarySamples and finds, every step, the
 // samples near each fluid particle. Solvers and forces see only those samples.
 #pragma once
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,11 @@ class BoundaryModel {
   // True when the samples are virtual particles rebuilt every step (one per fluid particle and
   // object, volume maps), not a fixed sampling of the surfaces.
   virtual bool implicit() const { return false; }
+  // The longest step the boundary allows the particles as they move now (the time step takes it
+  // like the CFL condition); infinity: no limit (VolumeMap's approachTolerance).
+  virtual Real approachStepLimit(const FluidModel& fluid, const CubicSplineKernel& kernel) const {
+    return std::numeric_limits<Real>::infinity();
+  }
   // How far object o's samples lie inside its solid (0: on its surface); rigid contact uses it.
   virtual Real layerDepth(std::size_t object) const { return 0; }
   // The moving objects' poses after the bodies moved (every step, and once at start-up): the

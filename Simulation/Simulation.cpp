@@ -550,6 +550,9 @@ void Simulation::updateTimeStep() {
     if (limit < dt && limit < timeStepCap_) dt = limit, forceLimited = true;
   }
   if (forceLimited) ++stats_.stabilityLimitedSteps;
+  // The boundary's bound (volume maps' approachTolerance): a particle moving into a wall or corner.
+  const Real boundaryLimit = boundaryModel_->approachStepLimit(*fluid_, kernel_);
+  if (boundaryLimit < dt && boundaryLimit < timeStepCap_) dt = boundaryLimit, ++stats_.boundaryLimitedSteps;
   dt_ = std::clamp(dt, scene_.minTimeStep, timeStepCap_);
 }
 
@@ -799,6 +802,7 @@ json Simulation::summary() const {
       {"maxDensityErrorPercent", 100.0 * s.densityErrorMax},
       {"iterationCapHits", s.iterationCapHits},
       {"stabilityLimitedSteps", s.stabilityLimitedSteps},
+      {"boundaryLimitedSteps", s.boundaryLimitedSteps},
       {"maxTimeStep", timeStepCap_},
       {"particlesLost", particlesLost()},
       {"particlesEmitted", s.particlesEmitted},

@@ -31,6 +31,7 @@ struct SimulationStats {
   std::size_t iterationCapHits = 0, consecutiveCapHits = 0;
   // Steps an explicit force's local stability bound shortened (NonPressureForce::stepLimit).
   std::size_t stabilityLimitedSteps = 0;
+  std::size_t boundaryLimitedSteps = 0;  // steps the boundary's approachStepLimit shortened
   std::size_t particlesEmitted = 0, particlesRemoved = 0;  // by emitters / removeOutside
   std::size_t particlesDroppedInsideBodies = 0;            // at start-up, inside closed bodies
   // seconds per phase
