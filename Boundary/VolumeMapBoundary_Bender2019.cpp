@@ -331,17 +331,18 @@ Real VolumeMapBoundary_Bender2019::approachStepLimit(const FluidModel& fluid, co
     return rho;
   };
   const Real rho0 = density0_;
-  return parallelMax(fluid.size(), -std::numeric_limits<Real>::infinity(), [&](std::size_t i) {
-    const Vector3r v = fluid.velocities[i];
-    const Real speed = v.norm();
-    if (speed < Real(1e-6)) return -std::numeric_limits<Real>::infinity();
-    const Vector3r x = fluid.positions[i], u = v / speed;
-    const Real r0 = density(x), rp = density(x + delta * u);
-    if (r0 <= 0 && rp <= 0) return -std::numeric_limits<Real>::infinity();
-    const Real kappa = (rp - 2 * r0 + density(x - delta * u)) / (delta * delta);
-    if (kappa <= 0) return -std::numeric_limits<Real>::infinity();
-    return -std::sqrt(2 * tolerance * rho0 / kappa) / speed;  // the largest -dt is the smallest dt
-  }) * Real(-1);
+  return parallelReduce(
+      fluid.size(), std::numeric_limits<Real>::infinity(), [](Real& into, const Real& from) { into = std::min(into, from); },
+      [&](std::size_t i, Real& shortest) {
+        const Vector3r v = fluid.velocities[i];
+        const Real speed = v.norm();
+        if (speed < Real(1e-6)) return;
+        const Vector3r x = fluid.positions[i], u = v / speed;
+        const Real r0 = density(x), rp = density(x + delta * u);
+        if (r0 <= 0 && rp <= 0) return;  // no wall within reach, now or r/2 on
+        const Real kappa = (rp - 2 * r0 + density(x - delta * u)) / (delta * delta);
+        if (kappa > 0) shortest = std::min(shortest, std::sqrt(2 * tolerance * rho0 / kappa) / speed);
+      });
 }
 
 Vector3r VolumeMapBoundary_Bender2019::impulseInBox(Index k, const Vector3r& x, const Vector3r& impulse, const Vector3r& lo,

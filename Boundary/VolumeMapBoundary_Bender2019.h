@@ -62,7 +62,6 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   Vector3r impulseInBox(Index k, const Vector3r& x, const Vector3r& impulse, const Vector3r& lo, const Vector3r& hi) const override;
 
   static std::vector<ParamSpec> parameters();
-  // The maps: one per object, or one per wall of a box container ("containers": "walls").
   // approachTolerance > 0: the longest step over which the boundary density at each fluid particle,
   // moving on at its velocity, stays within approachTolerance rho0 of its linear prediction
   // (the density solve's): 1/2 kappa (|v| dt)^2 <= e rho0, kappa = d^2 rho_b / du^2 along the
@@ -71,6 +70,7 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   // m/s (0.53 r per step) was compressed to 1.54 rho0 beyond what the solve saw and thrown back
   // at 12.8 m/s (bench/RESULTS.md). Fluid velocities, not relative to a moving body.
   Real approachStepLimit(const FluidModel& fluid, const CubicSplineKernel& kernel) const override;
+  // The maps: one per object, or one per wall of a box container ("containers": "walls").
   std::size_t mapCount() const { return pieces_.size(); }
   const VolumeMap& pieceMap(std::size_t piece) const { return *pieces_[piece].map; }
   std::size_t pieceObject(std::size_t piece) const { return pieces_[piece].object; }
