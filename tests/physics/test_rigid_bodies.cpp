@@ -557,9 +557,13 @@ TEST_P(LightBodyRise, RisesAndFloats) {
   // below the particle size, so it bobs on the top layer of particles (measured with particle
   // walls: 0.25-0.29 m at 0.13 m/s, a period of 0.8 s, slowly damped): its centre stays over
   // the water's surface and within a particle spacing of its floating height.
+  // Its speed then is that of a bob of at most one particle spacing (2r) at that period, 2 pi 2r /
+  // 0.8 s = 0.39 m/s. (The bound was 0.3 with nothing behind it; volume maps' approach limit,
+  // 3 % by default since 2026-12-06, shortened three of this run's 401 steps and moved the
+  // chaotic bob's fastest 0.283 -> 0.313 m/s over 1-2 s, its centre 0.262-0.327 m.)
   EXPECT_GT(lowLater, 0.24);
   EXPECT_LT(highLater, 0.35);
-  EXPECT_LT(fastLater, 0.3);
+  EXPECT_LT(fastLater, 2 * M_PI * 0.05 / 0.8);
 }
 
 INSTANTIATE_TEST_SUITE_P(RigidBodies, LightBodyRise, ::testing::Values("Akinci2012", "VolumeMap"),
