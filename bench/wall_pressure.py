@@ -124,6 +124,13 @@ def jet_scene(solver, model, treatment):
     }
 
 
+def time_mean(values, dts):
+    """The time average of per-step values (each weighted by its step): a mean over steps would
+    weight a short step as much as a long one, and the adaptive step shortens where loads peak
+    (volume maps' approach limit: the jet's plate force read 30 % high at r = 0.01 as a step mean)."""
+    return float(sum(v * dt for v, dt in zip(values, dts)) / sum(dts))
+
+
 def measure(case, solver, model, treatment, n, threads):
     """Runs one combination in this process (the child of main) and returns its figures."""
     import numpy as np
@@ -137,14 +144,15 @@ def measure(case, solver, model, treatment, n, threads):
         weight = len(f.positions) * f.masses[0] * G
         t0 = time.time()
         sim.run(until=2.5)
-        rows, moment, frames = [], [], []
+        rows, moment, frames, dts = [], [], [], []
         while sim.time < 3.0 - 1e-9:
             sim.step(1)
             rows.append(sim.probes)
+            dts.append(sim.dt)
             moment.append(float(np.sum(f.masses * f.positions[:, 1])))
             frames.append((f.positions[:, 1].copy(), f.solver_pressures.copy(), f.pressures.copy()))
         wall = time.time() - t0
-        avg = {k: float(np.mean([r[k] for r in rows])) for k in rows[0]}
+        avg = {k: time_mean([r[k] for r in rows], dts) for k in rows[0]}
         H = avg["level"]
         x = f.positions.copy()
 
@@ -184,7 +192,7 @@ def measure(case, solver, model, treatment, n, threads):
         out["floor_probe"] = avg["floor"] / (weight / (w * w))
         out["side_probe"] = avg["side"] / (RHO0 * G * (H - n * SPACING))
         out["floor_force"] = -avg["tank.fy"] / weight
-        out["side_force"] = -avg["wall.fx"] / (G * w * float(np.mean(moment)) / (w * w))
+        out["side_force"] = -avg["wall.fx"] / (G * w * time_mean(moment, dts) / (w * w))
         out["level"] = H
         # The fluid's mass per volume as it lies, M / (A H), against rho0: p(d) of a fluid at rest
         # rises at g times this (a disordered packing at SPH density rho0 fills a little more or
@@ -201,20 +209,22 @@ def measure(case, solver, model, treatment, n, threads):
         sim = consph.Simulation.from_dict(jet_scene(solver, model, treatment))
         f = sim.fluid("water")
         sim.run(until=0.3)
-        emitted0, t0, fy = sim.summary()["particlesEmitted"], sim.time, []
+        emitted0, t0, fy, dts = sim.summary()["particlesEmitted"], sim.time, [], []
         while sim.time < 0.6 - 1e-9:
             sim.step(1)
             fy.append(sim.probes["plate.fy"])
+            dts.append(sim.dt)
         mdot = (sim.summary()["particlesEmitted"] - emitted0) * float(f.masses[0]) / (sim.time - t0)
-        out["jet"] = -float(np.mean(fy)) / (mdot * 2.0)
+        out["jet"] = -time_mean(fy, dts) / (mdot * 2.0)
     else:
         sim = consph.Simulation.from_dict(box_scene(solver, model, treatment))
         sim.run(until=1.0)
-        fy = []
+        fy, dts = [], []
         while sim.time < 1.5 - 1e-9:
             sim.step(1)
             fy.append(sim.probes["box.fy"])
-        out["buoyancy"] = float(np.mean(fy)) / (RHO0 * 0.2 ** 3 * G)
+            dts.append(sim.dt)
+        out["buoyancy"] = time_mean(fy, dts) / (RHO0 * 0.2 ** 3 * G)
     out["resolved_treatment"] = sim.summary()["boundaryPressure"]
     out["precision"] = consph.precision
     return out
