@@ -68,8 +68,10 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   // motion u by central differences over r / 2. Towards a wall, and most in a corner, rho_b
   // grows faster than linearly: without it a particle sliding into a floor / wall corner at 4.4
   // m/s (0.53 r per step) was compressed to 1.54 rho0 beyond what the solve saw and thrown back
-  // at 12.8 m/s (bench/RESULTS.md). Static maps only, and no particle within reach of a moving
-  // body: the gaps a body closes are closing gaps (the .cpp says what counting them did).
+  // at 12.8 m/s (bench/RESULTS.md). A particle below (1 + e) rho0 (its rho_i from this step's
+  // density pass) may take the longer step over which its whole change stays under that. Static
+  // maps only, and no particle within reach of a moving body: the gaps a body closes are closing
+  // gaps (the .cpp says what counting them did).
   Real approachStepLimit(const FluidModel& fluid, const CubicSplineKernel& kernel) const override;
   // The maps: one per object, or one per wall of a box container ("containers": "walls").
   std::size_t mapCount() const { return pieces_.size(); }
