@@ -49,7 +49,8 @@ CornerRun slabIntoACorner(double approachTolerance) {
 }  // namespace
 
 // Measured 2026-12-06 (double, 2 threads): off, 98 steps, densest 1.692 rho0, fastest 9.04 m/s;
-// at 1 %, 204 steps (181 limited; 202 / 179 with each map's term summed, the same figures), densest 1.014, fastest 7.60 (the run-up along the far wall).
+// at 1 %, 156 steps (125 limited), densest 1.034, fastest 8.01 (the run-up along the far wall);
+// without the headroom a particle below (1 + e) rho0 may use, 204 steps, densest 1.014.
 TEST(VolumeMapApproach, AParticleDrivenIntoACornerStaysNearRho0) {
   const CornerRun off = slabIntoACorner(0);
   EXPECT_EQ(off.limited, 0u);
@@ -98,7 +99,8 @@ BodyLanding heavyBoxLands(double approachTolerance) {
 // Near a moving body the step is not shortened. Measured 2026-12-06 (double, 2 threads,
 // bench/stability.py's row to 1 s): counted with the fluid's velocity relative to the body, the
 // box's landing drove the step to the 1e-4 s minimum and the film it squeezed out to 346 m/s
-// (16.0 m/s with the limit off); with the static walls alone, 17.2 m/s, the shortest step 0.5 ms.
+// (16.0 m/s with the limit off); with the static walls alone, 17.2 m/s, the shortest step 0.5 ms;
+// with the particles near the body left out as well (the code now), 13.9 m/s.
 TEST(VolumeMapApproach, ABodyLandingOnTheFloorThroughWaterKeepsItsStep) {
   const BodyLanding off = heavyBoxLands(0);
   const BodyLanding on = heavyBoxLands(3);
