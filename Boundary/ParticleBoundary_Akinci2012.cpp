@@ -193,7 +193,7 @@ void ParticleBoundary_Akinci2012::findNeighbors(const FluidModel& fluid, const C
     grid_.build(samples_.positions.data(), samples_.size(), kernel.supportRadius());
     moved_ = false;
   }
-  buildNeighborLists(grid_, fluid.positions.data(), fluid.size(), kernel, false, out);
+  buildNeighborLists(grid_, fluid.positions.data(), fluid.size(), kernel, false, PairGradients::Vectors, out);
 }
 
 }  // namespace consph

@@ -41,16 +41,18 @@ class CubicSplineKernel {
     return -l_ * t * t * invH_;
   }
 
-  // grad W(x) with x = x_i - x_j (points from j to i).
-  Vector3r gradW(const Vector3r& x) const {
-    const Real r = x.norm();
+  // grad W(x) = x gradFactor(|x|) with x = x_i - x_j (points from j to i). Neighbour lists store
+  // the scalar factor per pair and multiply it by x_ij where a loop needs the gradient: 4 bytes
+  // per pair to stream instead of 12, and the same bits as this function.
+  Real gradFactor(Real r) const {
     const Real q = r * invH_;
-    if (q > Real(1) || r < Real(1e-9) * h_) return Vector3r::Zero();
-    const Vector3r gradQ = x * (invH_ / r);
-    if (q <= Real(0.5)) return (l_ * q * (Real(3) * q - Real(2))) * gradQ;
+    if (q > Real(1) || r < Real(1e-9) * h_) return Real(0);
+    const Real c = invH_ / r;  // |grad q| / r
+    if (q <= Real(0.5)) return (l_ * q * (Real(3) * q - Real(2))) * c;
     const Real t = Real(1) - q;
-    return (-l_ * t * t) * gradQ;
+    return (-l_ * t * t) * c;
   }
+  Vector3r gradW(const Vector3r& x) const { return x * gradFactor(x.norm()); }
 
  private:
   Real h_ = 0, invH_ = 0, k_ = 0, l_ = 0, w0_ = 0;

@@ -140,8 +140,9 @@ void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
 }
 
 void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::size_t n, const CubicSplineKernel& kernel,
-                        bool excludeSelf, NeighborLists& out, const Real* kernelWeights) {
+                        bool excludeSelf, PairGradients gradients, NeighborLists& out, const Real* kernelWeights) {
   const Real h = kernel.supportRadius();
+  const bool factors = gradients == PairGradients::Factors;
   out.offsets.resize(n + 1);
   if (kernelWeights)
     out.kernelSums.resize(n);
@@ -152,15 +153,22 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
   // Per-chunk buffers live in `out`, so steady-state steps allocate nothing.
   out.scratchIndices.resize(chunks);
   out.scratchGradW.resize(chunks);
+  out.scratchGradFactors.resize(chunks);
   out.scratchAccepted.resize(chunks);
   std::vector<std::size_t> chunkBegin(chunks, n);
+  // The ranges of the last build's balance while the queries are the same ones (their pairs
+  // change little from step to step), equal ones otherwise.
+  if (out.work.size() != n || out.work.chunks() != chunks) out.work.balance(n, chunks, [](std::size_t i) { return i; });
   // A chunk a smaller team leaves out must not copy an earlier call's lists.
-  for (std::size_t t = 0; t < chunks; ++t) out.scratchIndices[t].clear(), out.scratchGradW[t].clear();
+  for (std::size_t t = 0; t < chunks; ++t) out.scratchIndices[t].clear(), out.scratchGradW[t].clear(), out.scratchGradFactors[t].clear();
   const Real h2 = h * h;
   constexpr Index kNoSelf = ~Index(0);  // no candidate has this index
+  // A query's own work (its cell's ranges, its sums' set-up and stores) in pairs' worth, for
+  // the balance of `out.work`; the loops over a dam break's lists hold ~40 pairs per query.
+  constexpr std::size_t kCostPerQuery = 4;
   // Each chunk fills its own buffers, which are then copied into the CSR arrays by chunk (a GPU
   // backend would count, prefix-sum and fill instead).
-  parallelChunks(n, [&](std::size_t t, std::size_t b, std::size_t e) {
+  parallelChunks(out.work, [&](std::size_t t, std::size_t b, std::size_t e) {
     // Chunks in index order: concatenating their buffers gives the CSR array.
     // The grid keeps its sorted points as a structure of arrays, and the 27 cells around a
     // query are 9 contiguous ranges of it, so the distance test runs straight over those ranges
@@ -173,8 +181,10 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
     // over one cache line with the other threads (false sharing).
     std::vector<Index> idx = std::move(out.scratchIndices[t]), accepted = std::move(out.scratchAccepted[t]);
     std::vector<Vector3r> grad = std::move(out.scratchGradW[t]);
+    std::vector<Real> factor = std::move(out.scratchGradFactors[t]);
     idx.clear();
     grad.clear();
+    factor.clear();
     std::array<int, 3> cell = {0, 0, 0};
     bool haveCell = false;
     std::array<std::pair<Index, Index>, 9> ranges;
@@ -203,39 +213,45 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
         m += acceptCandidates(sx, sy, sz, si, ranges[r].first, ranges[r].second, xi, h2, self, accepted.data() + m);
       const std::size_t before = idx.size();
       idx.resize(before + m);
-      grad.resize(before + m);
+      if (factors)
+        factor.resize(before + m);
+      else
+        grad.resize(before + m);
       const Real px = xi[0], py = xi[1], pz = xi[2];
-      if (kernelWeights) {
-        // The same sum, in the same order, as a loop over the finished list would give.
-        Real sum = excludeSelf ? kernelWeights[i] * kernel.W0() : Real(0);
-        for (std::size_t a = 0; a < m; ++a) {
-          const std::size_t s = accepted[a];
-          const Vector3r x(px - sx[s], py - sy[s], pz - sz[s]);
-          idx[before + a] = si[s];
-          grad[before + a] = kernel.gradW(x);
-          sum += kernelWeights[si[s]] * kernel.W(x);
-        }
-        out.kernelSums[i] = sum;
-      } else {
-        for (std::size_t a = 0; a < m; ++a) {
-          const std::size_t s = accepted[a];
-          idx[before + a] = si[s];
-          grad[before + a] = kernel.gradW(Vector3r(px - sx[s], py - sy[s], pz - sz[s]));
-        }
+      // With weights, the same sum, in the same order, as a loop over the finished list would give.
+      Real sum = excludeSelf && kernelWeights ? kernelWeights[i] * kernel.W0() : Real(0);
+      for (std::size_t a = 0; a < m; ++a) {
+        const std::size_t s = accepted[a];
+        const Vector3r x(px - sx[s], py - sy[s], pz - sz[s]);
+        const Real r = x.norm(), g = kernel.gradFactor(r);
+        idx[before + a] = si[s];
+        if (factors)
+          factor[before + a] = g;
+        else
+          grad[before + a] = x * g;  // Kernel::gradW(x)
+        if (kernelWeights) sum += kernelWeights[si[s]] * kernel.W(r);
       }
+      if (kernelWeights) out.kernelSums[i] = sum;
       out.offsets[i + 1] = Index(m);
     }
     out.scratchIndices[t] = std::move(idx);
     out.scratchGradW[t] = std::move(grad);
+    out.scratchGradFactors[t] = std::move(factor);
     out.scratchAccepted[t] = std::move(accepted);
   });
   for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
+  out.work.balance(n, chunks, [&](std::size_t i) { return std::size_t(out.offsets[i]) + kCostPerQuery * i; });
   out.indices.resize(out.offsets[n]);
-  out.gradW.resize(out.offsets[n]);
+  // The unused form is emptied: no stale gradients of an earlier call in the other form.
+  out.gradW.resize(factors ? 0 : out.offsets[n]);
+  out.gradFactors.resize(factors ? out.offsets[n] : 0);
   parallelFor(chunks, [&](std::size_t t) {
     const std::size_t at = out.offsets[chunkBegin[t]];
     std::copy(out.scratchIndices[t].begin(), out.scratchIndices[t].end(), out.indices.begin() + at);
-    std::copy(out.scratchGradW[t].begin(), out.scratchGradW[t].end(), out.gradW.begin() + at);
+    if (factors)
+      std::copy(out.scratchGradFactors[t].begin(), out.scratchGradFactors[t].end(), out.gradFactors.begin() + at);
+    else
+      std::copy(out.scratchGradW[t].begin(), out.scratchGradW[t].end(), out.gradW.begin() + at);
   });
 }
 
@@ -276,12 +292,14 @@ void transposeNeighborLists(const NeighborLists& lists, std::size_t nTargets, Ne
   std::partial_sum(out.offsets.begin(), out.offsets.end(), out.offsets.begin());
   out.indices.resize(lists.indices.size());
   out.gradW.resize(lists.gradW.size());
+  out.gradFactors.resize(lists.gradFactors.size());
   std::vector<Index> cursor(out.offsets.begin(), out.offsets.end() - 1);
   for (std::size_t i = 0; i < n; ++i)
     for (Index e = lists.begin(i); e < lists.end(i); ++e) {
       const Index s = cursor[lists.indices[e]]++;
       out.indices[s] = Index(i);
       if (!lists.gradW.empty()) out.gradW[s] = -lists.gradW[e];
+      if (!lists.gradFactors.empty()) out.gradFactors[s] = lists.gradFactors[e];
     }
 }
 

@@ -2,7 +2,8 @@
 // size = support radius, 27 cells per query visited as 9 contiguous rows), built in parallel
 // without locks. Results are flat CSR arrays,
 // built once per step and reused by every solver iteration; each entry also caches the kernel
-// gradient, since every Jacobi iteration needs it and recomputing it costs a square root.
+// gradient (as a vector, or as the scalar factor of x_ij: PairGradients), since every Jacobi
+// iteration needs it and recomputing it costs a square root.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -11,27 +12,44 @@
 
 #include "Simulation/Common.h"
 #include "Simulation/Kernel.h"
+#include "Utilities/ParallelFor.h"
 
 namespace consph {
+
+// How a list holds each pair's kernel gradient grad W(x_i - x_j).
+enum class PairGradients {
+  Vectors,  // gradW[e]: the boundary lists (a volume map's gradient is not along x_ij)
+  Factors,  // gradFactors[e], grad W = x_ij gradFactors[e]: the fluid's own lists. Their loops
+            // read x_j anyway or find it in cache (Z-sorted positions), and stream 8 bytes per
+            // pair instead of 16 in float (bench/RESULTS.md, "Pair gradients as factors").
+};
 
 // Neighbours of each query particle i: indices[offsets[i] .. offsets[i+1]).
 struct NeighborLists {
   std::vector<Index> offsets;    // (n + 1)
   std::vector<Index> indices;    // (number of pairs)
-  std::vector<Vector3r> gradW;   // (number of pairs) grad W(x_i - x_j)
+  std::vector<Vector3r> gradW;   // (number of pairs) grad W(x_i - x_j); empty for PairGradients::Factors
+  std::vector<Real> gradFactors; // (number of pairs) Kernel::gradFactor(|x_ij|); empty for PairGradients::Vectors
   // (n) only when the build was given kernel weights w, else empty: sum_j w_j W(x_i - x_j) over
   // the listed j, after w_i W(0) for a search of a set against itself (a density, Eq. 14's
   // fluid part, with w = m).
   std::vector<Real> kernelSums;
+  // The queries split into one range per thread with about equal shares of pairs (plus a fixed
+  // cost per query): the schedule of the loops over these lists (parallelFor(work, n, f)).
+  WorkPartition work;
   // Per-thread scratch of the build, kept so that steady-state steps allocate nothing.
   std::vector<std::vector<Index>> scratchIndices;
   std::vector<std::vector<Vector3r>> scratchGradW;
+  std::vector<std::vector<Real>> scratchGradFactors;
   std::vector<std::vector<Index>> scratchAccepted;  // per thread: the accepted candidates of one query
 
   std::size_t queryCount() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   Index begin(std::size_t i) const { return offsets[i]; }
   Index end(std::size_t i) const { return offsets[i + 1]; }
   Index count(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
+  // grad W(x_ij) of pair e of a PairGradients::Factors list, x_ij = x_i - x_indices[e]: the
+  // same bits as Kernel::gradW(x_ij).
+  Vector3r gradient(Index e, const Vector3r& xij) const { return xij * gradFactors[e]; }
   std::size_t pairCount() const { return indices.size(); }
 };
 
@@ -108,14 +126,15 @@ class PointGrid {
 // With `kernelWeights` (one per grid point, by original index) it also fills out.kernelSums while
 // each x_j is in cache, which saves the densities a pass over the lists.
 void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::size_t nQueries, const CubicSplineKernel& kernel,
-                        bool excludeSelf, NeighborLists& out, const Real* kernelWeights = nullptr);
+                        bool excludeSelf, PairGradients gradients, NeighborLists& out, const Real* kernelWeights = nullptr);
 
 // A permutation that orders the points along a Z-order (Morton) curve of cells of `cellSize`,
 // so that neighbours in space are neighbours in memory.
 std::vector<Index> zOrderPermutation(const Vector3r* points, std::size_t n, Real cellSize);
 
 // Lists reversed: for every point j of the target set (nTargets), the queries i listing it.
-// gradW entries are grad W(x_j - x_i) = -grad W(x_i - x_j).
+// gradW entries are grad W(x_j - x_i) = -grad W(x_i - x_j); gradFactors entries are copied (the
+// factor of x_ji = -x_ij is the same).
 void transposeNeighborLists(const NeighborLists& lists, std::size_t nTargets, NeighborLists& out);
 
 }  // namespace consph

@@ -480,7 +480,7 @@ void Simulation::findNeighbors() {
   }
   fluidGrid_.build(f.positions.data(), f.size(), kernel_.supportRadius());
   // The fluid part of the densities comes with the lists (computeDensities).
-  buildNeighborLists(fluidGrid_, f.positions.data(), f.size(), kernel_, true, fluidNeighbors_, f.masses.data());
+  buildNeighborLists(fluidGrid_, f.positions.data(), f.size(), kernel_, true, PairGradients::Factors, fluidNeighbors_, f.masses.data());
   boundaryModel_->findNeighbors(f, kernel_, boundaryNeighbors_);
 }
 
@@ -746,7 +746,7 @@ void Simulation::updatePressureField() {
   FluidModel& f = *fluid_;
   std::vector<Real>& out = *pressureField_;
   fluidGrid_.build(f.positions.data(), f.size(), kernel_.supportRadius());
-  buildNeighborLists(fluidGrid_, f.positions.data(), f.size(), kernel_, true, fluidNeighbors_);
+  buildNeighborLists(fluidGrid_, f.positions.data(), f.size(), kernel_, true, PairGradients::Factors, fluidNeighbors_);
   parallelFor(f.size(), [&](std::size_t i) {
     const Vector3r xi = f.positions[i];
     const Real selfWeight = f.masses[i] / f.densities[i] * kernel_.W0();

@@ -13,6 +13,11 @@
 //                                  (integer counts, min, max, flags)
 //   parallelSum<T>(n, f)           sum of f(i) in T        parallelMax<T>(n, init, f)  max(init, f(i))
 //   parallelAny(n, pred)           whether pred(i) holds for some i
+//   parallelFor(work, n, f), parallelReduce(work, n, id, join, body), parallelChunks(work, body)
+//                                  the same over a WorkPartition: contiguous ranges holding equal
+//                                  shares of a per-index cost (a particle's neighbour pairs), for
+//                                  the loops over neighbour lists, whose cost per particle varies
+//                                  by 1.3x and more between a splash and the bulk
 //   parallelChunks(n, body)        body(chunk, begin, end) once per thread over its contiguous
 //                                  chunk [begin, end) of [0, n), the chunks of parallelFor's static
 //                                  schedule, chunk = 0 .. parallelChunkCount() - 1 in index order:
@@ -165,6 +170,108 @@ bool parallelAny(std::size_t n, Pred&& pred) {
   return parallelReduce(n, false, [](bool& into, bool from) { into = into || from; }, [&](std::size_t i, bool& found) {
     if (!found && pred(i)) found = true;
   });
+}
+
+// [0, n) cut into one contiguous range per thread, each holding about an equal share of a cost
+// per index: a static schedule for loops whose iterations cost unevenly in a way known before the
+// loop (a particle's neighbour pairs). In a Z-sorted dam break at r = 0.025 the first half of the
+// particles held 1.03-1.30x the pairs of the second half over its first second (counted), so an
+// equal split leaves one thread up to 13 % more pairs in every loop over the lists while the other
+// waits at the barrier; more threads cut the sorted order into smaller, more uneven pieces. (On
+// the 2-core VM the wall time did not move beyond its noise: bench/RESULTS.md, "Pair gradients as
+// factors, loops balanced by pairs".) A dynamic schedule would balance too, at a cost per chunk
+// that measured slower. Deterministic: the ranges depend on the costs and the thread count only.
+class WorkPartition {
+ public:
+  // Ranges for `chunks` threads over [0, n), cut where the cumulative cost, cumulative(i) = the
+  // cost of [0, i) (non-decreasing, cumulative(0) = 0), crosses each equal share.
+  template <class Cumulative>
+  void balance(std::size_t n, std::size_t chunks, Cumulative&& cumulative) {
+    chunks = std::max<std::size_t>(chunks, 1);
+    bounds_.assign(chunks + 1, n);
+    bounds_[0] = 0;
+    const double total = double(cumulative(n));
+    for (std::size_t t = 1; t < chunks; ++t) {
+      const double share = total * double(t) / double(chunks);
+      // The first i from the previous bound on whose cumulative cost reaches the share.
+      std::size_t lo = bounds_[t - 1], hi = n;
+      while (lo < hi) {
+        const std::size_t mid = lo + (hi - lo) / 2;
+        if (double(cumulative(mid)) < share)
+          lo = mid + 1;
+        else
+          hi = mid;
+      }
+      bounds_[t] = lo;
+    }
+  }
+  std::size_t size() const { return bounds_.empty() ? 0 : bounds_.back(); }
+  std::size_t chunks() const { return bounds_.empty() ? 0 : bounds_.size() - 1; }
+  std::size_t begin(std::size_t chunk) const { return bounds_[chunk]; }
+  std::size_t end(std::size_t chunk) const { return bounds_[chunk + 1]; }
+
+ private:
+  std::vector<std::size_t> bounds_;  // (chunks + 1)
+};
+
+namespace parallel_detail {
+// body(chunk, begin, end) for every chunk of `work`, each thread of the team taking chunks
+// t, t + team, ... (one each when the team is as large as the partition).
+template <class Body>
+void forEachChunk(const WorkPartition& work, Body&& body) {
+  const std::size_t chunks = work.chunks();
+#ifdef _OPENMP
+#pragma omp parallel
+  {
+    const std::size_t team = std::size_t(omp_get_num_threads());
+    for (std::size_t c = std::size_t(omp_get_thread_num()); c < chunks; c += team) body(c, work.begin(c), work.end(c));
+  }
+#else
+  for (std::size_t c = 0; c < chunks; ++c) body(c, work.begin(c), work.end(c));
+#endif
+}
+}  // namespace parallel_detail
+
+// f(i) for every i in [0, n), each thread over its range of `work`; an equal split (parallelFor(n,
+// f)) where `work` does not cover exactly [0, n) (lists built before particles were added).
+template <class F>
+void parallelFor(const WorkPartition& work, std::size_t n, F&& f) {
+  if (work.size() != n) return parallelFor(n, f);
+  parallel_detail::forEachChunk(work, [&](std::size_t, std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) f(i);
+  });
+}
+
+// parallelReduce over `work`'s ranges: one accumulator per range, joined in range order (the
+// same bits for the same partition, whatever team runs it); parallelReduce(n, ...) where `work`
+// does not cover exactly [0, n).
+template <class T, class Join, class Body>
+T parallelReduce(const WorkPartition& work, std::size_t n, T identity, Join&& join, Body&& body) {
+  if (work.size() != n) return parallelReduce(n, std::move(identity), join, body);
+  struct Slot {  // a struct: std::vector<bool> packs bits that threads would share
+    T value;
+  };
+  std::vector<Slot> partial(work.chunks(), Slot{identity});
+  parallel_detail::forEachChunk(work, [&](std::size_t c, std::size_t b, std::size_t e) {
+    T local = identity;
+    for (std::size_t i = b; i < e; ++i) body(i, local);
+    partial[c].value = std::move(local);
+  });
+  T result = std::move(identity);
+  for (Slot& p : partial) join(result, p.value);
+  return result;
+}
+
+// The sum of f(i) over [0, n) in T, over `work`'s ranges.
+template <class T, class F>
+T parallelSum(const WorkPartition& work, std::size_t n, F&& f) {
+  return parallelReduce(work, n, T(0), [](T& into, const T& from) { into += from; }, [&](std::size_t i, T& acc) { acc += f(i); });
+}
+
+// body(chunk, begin, end) once per range of `work`, as parallelChunks(n, body) does per thread.
+template <class Body>
+void parallelChunks(const WorkPartition& work, Body&& body) {
+  parallel_detail::forEachChunk(work, body);
 }
 
 }  // namespace consph

@@ -77,7 +77,7 @@ void DFSPH::computeDiagonal(StepContext& ctx) {
   const std::size_t n = ctx.fluid.size();
   invDiagonal_.resize(n);
   increment_.resize(n);
-  parallelFor(n, [&](std::size_t i) {
+  parallelFor(ctx.fluidNeighbors.work, n, [&](std::size_t i) {
     Vector3r sumGrad = treatment_.boundaryGradient(i);
     Real sumSquares = treatment_.diagonalTerm(i);
     fluidDiagonalSums(ctx, i, sumGrad, sumSquares);
@@ -104,13 +104,13 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence, Real* largest) {
   const std::size_t n = f.size();
   const Real maxDrop = maxDensityDrop(ctx, rho0, settings_.overlapReliefSpeed);
   const Real relaxationTime = densityRelaxationTime(settings_.densityRelaxation, ctx);
-  // The sum per thread in the static schedule's grouping (as parallelSum), and the largest.
+  // The sum per range of the lists' balanced schedule, and the largest.
   struct Errors {
     double sum = 0;
     Real largest = 0;
   };
   const Errors errors = parallelReduce(
-      n, Errors{}, [](Errors& into, const Errors& from) { into.sum += from.sum, into.largest = std::max(into.largest, from.largest); },
+      fn.work, n, Errors{}, [](Errors& into, const Errors& from) { into.sum += from.sum, into.largest = std::max(into.largest, from.largest); },
       [&](std::size_t i, Errors& acc) {
         const Real drho = densityRate(ctx, i);
         Real s;
@@ -141,7 +141,7 @@ void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k,
   if (treatment_.extrapolates())
     treatment_.extrapolate([&](Index j) { return ((accumulated ? (*accumulated)[j] : Real(0)) + k[j]) * f.densities[j] * f.densities[j]; });
   const std::vector<Real>& pkChange = treatment_.boundaryPressureChanges();
-  parallelFor(f.size(), [&](std::size_t i) {
+  parallelFor(ctx.fluidNeighbors.work, f.size(), [&](std::size_t i) {
     const Real ki = k[i];
     Vector3r dv = fluidPressureAcceleration(ctx, i, k);  // Eq. (9) / (24)
     // Boundary: Eq. (33) (consistent) or Eq. (16) (mirroring, extrapolation).

@@ -51,7 +51,7 @@ void IISPH::prepare(StepContext& ctx) {
   omegaOverA_.resize(n);
   beta_.resize(n);
   pressureAcc_.resize(n);
-  parallelFor(n, [&](std::size_t i) {
+  parallelFor(ctx.fluidNeighbors.work, n, [&](std::size_t i) {
     const Real rhoI = f.densities[i];
     // s_i = (target - rho*_i) / dt, rho*_i = rho_i + dt D rho_i / Dt (Eqs. 5, 6); target = rho0
     // unless the step starts over rho0 (driftTarget, overlap relief).
@@ -73,7 +73,7 @@ void IISPH::computeAccelerations(StepContext& ctx) {
   const FluidView& f = ctx.fluid;
   if (treatment_.extrapolates()) treatment_.extrapolate([&](Index j) { return f.pressures[j]; });
   const std::vector<Real>& pk = treatment_.boundaryPressures();
-  parallelFor(f.size(), [&](std::size_t i) {
+  parallelFor(ctx.fluidNeighbors.work, f.size(), [&](std::size_t i) {
     pressureAcc_[i] = fluidPressureAcceleration(ctx, i, beta_) + treatment_.acceleration(ctx, i, beta_[i], f.pressures[i], pk);
   });
 }
@@ -83,12 +83,15 @@ Real IISPH::jacobiSweep(StepContext& ctx) {
   const NeighborLists& fn = ctx.fluidNeighbors;
   const Real rho0 = f.density0(), dt = ctx.dt;
   const std::size_t n = f.size();
-  const double errorSum = parallelSum<double>(n, [&](std::size_t i) {
+  const double errorSum = parallelSum<double>(fn.work, n, [&](std::size_t i) {
     // (A p)_i = dt (sum_j m_j (a_i - a_j) . grad W_ij + sum_k m~_k (a_i - a_k) . grad W_ik) with
     // a_k = 0 (Eqs. 10, 17, 34): the boundary sum is a_i . g_i.
-    const Vector3r ai = pressureAcc_[i];
+    const Vector3r ai = pressureAcc_[i], xi = f.positions[i];
     Real laplacian = ai.dot(treatment_.boundaryGradient(i));
-    for (Index e = fn.begin(i); e < fn.end(i); ++e) laplacian += f.masses[fn.indices[e]] * (ai - pressureAcc_[fn.indices[e]]).dot(fn.gradW[e]);
+    for (Index e = fn.begin(i); e < fn.end(i); ++e) {
+      const Index j = fn.indices[e];
+      laplacian += f.masses[j] * (ai - pressureAcc_[j]).dot(fn.gradient(e, xi - f.positions[j]));
+    }
     const Real residual = source_[i] - dt * laplacian;
     // rho**_i - rho0 = -dt residual_i: the compression these pressures leave.
     const Real compression = std::max(-dt * residual, Real(0)) / rho0;

@@ -17,9 +17,12 @@ inline Real densityRate(const StepContext& ctx, std::size_t i) {
   const BoundaryView& b = ctx.boundary;
   const NeighborLists& fn = ctx.fluidNeighbors;
   const NeighborLists& bn = ctx.boundaryNeighbors;
-  const Vector3r vi = f.velocities[i];
+  const Vector3r vi = f.velocities[i], xi = f.positions[i];
   Real rate = 0;
-  for (Index e = fn.begin(i); e < fn.end(i); ++e) rate += f.masses[fn.indices[e]] * (vi - f.velocities[fn.indices[e]]).dot(fn.gradW[e]);
+  for (Index e = fn.begin(i); e < fn.end(i); ++e) {
+    const Index j = fn.indices[e];
+    rate += f.masses[j] * (vi - f.velocities[j]).dot(fn.gradient(e, xi - f.positions[j]));
+  }
   for (Index e = bn.begin(i); e < bn.end(i); ++e) rate += b.masses[bn.indices[e]] * (vi - b.velocities[bn.indices[e]]).dot(bn.gradW[e]);
   return rate;
 }
@@ -90,10 +93,11 @@ inline Vector3r fluidPressureAcceleration(const StepContext& ctx, std::size_t i,
   const FluidView& f = ctx.fluid;
   const NeighborLists& fn = ctx.fluidNeighbors;
   const Real bi = beta[i];
+  const Vector3r xi = f.positions[i];
   Vector3r a = Vector3r::Zero();
   for (Index e = fn.begin(i); e < fn.end(i); ++e) {
     const Index j = fn.indices[e];
-    a -= f.masses[j] * (bi + beta[j]) * fn.gradW[e];
+    a -= f.masses[j] * (bi + beta[j]) * fn.gradient(e, xi - f.positions[j]);
   }
   return a;
 }
@@ -103,10 +107,13 @@ inline void fluidDiagonalSums(const StepContext& ctx, std::size_t i, Vector3r& g
   const FluidView& f = ctx.fluid;
   const NeighborLists& fn = ctx.fluidNeighbors;
   const Real mi = f.masses[i];
+  const Vector3r xi = f.positions[i];
   for (Index e = fn.begin(i); e < fn.end(i); ++e) {
-    const Real mj = f.masses[fn.indices[e]];
-    gradientSum += mj * fn.gradW[e];
-    squares += mi * mj * fn.gradW[e].squaredNorm();
+    const Index j = fn.indices[e];
+    const Real mj = f.masses[j];
+    const Vector3r g = fn.gradient(e, xi - f.positions[j]);
+    gradientSum += mj * g;
+    squares += mi * mj * g.squaredNorm();
   }
 }
 

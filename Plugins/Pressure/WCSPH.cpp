@@ -45,7 +45,7 @@ void WCSPH::solve(StepContext& ctx) {
   treatment_.beginStep(ctx);
   if (treatment_.extrapolates()) treatment_.extrapolate([&](Index j) { return f.pressures[j]; });
   const std::vector<Real>& pk = treatment_.boundaryPressures();
-  parallelFor(n, [&](std::size_t i) {
+  parallelFor(ctx.fluidNeighbors.work, n, [&](std::size_t i) {
     // Eq. (9), boundary: Eq. (33) (consistent) or Eq. (16) (mirroring, extrapolation).
     const Vector3r a = fluidPressureAcceleration(ctx, i, beta_) + treatment_.acceleration(ctx, i, beta_[i], f.pressures[i], pk);
     f.velocities[i] += dt * a;

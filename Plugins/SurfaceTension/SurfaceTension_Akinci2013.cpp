@@ -67,9 +67,10 @@ void SurfaceTension_Akinci2013::addAccelerations(StepContext& ctx) {
   // Eq. (5): surface normals (zero inside the fluid, length ~1 at the surface).
   parallelFor(n, [&](std::size_t i) {
     Vector3r ni = Vector3r::Zero();
+    const Vector3r xi = f.positions[i];
     for (Index e = fn.begin(i); e < fn.end(i); ++e) {
       const Index j = fn.indices[e];
-      ni += (f.masses[j] / f.densities[j]) * fn.gradW[e];
+      ni += (f.masses[j] / f.densities[j]) * fn.gradient(e, xi - f.positions[j]);
     }
     normals_[i] = h * ni;
   });

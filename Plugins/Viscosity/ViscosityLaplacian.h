@@ -29,7 +29,7 @@ inline Vector3r fluidSum(const FluidView& f, const NeighborLists& fn, std::size_
   for (Index e = fn.begin(i); e < fn.end(i); ++e) {
     const Index j = fn.indices[e];
     const Vector3r xij = xi - f.positions[j];
-    s += (f.masses[j] / f.densities[j]) * ((ui - u[j]).dot(xij) / (xij.squaredNorm() + eps)) * fn.gradW[e];
+    s += (f.masses[j] / f.densities[j]) * ((ui - u[j]).dot(xij) / (xij.squaredNorm() + eps)) * fn.gradient(e, xij);
   }
   return s;
 }
@@ -47,9 +47,10 @@ inline Vector3r fluidSumWithRate(const FluidView& f, const NeighborLists& fn, st
     const Index j = fn.indices[e];
     const Vector3r xij = xi - f.positions[j];
     const Real weight = (f.masses[j] / f.densities[j]) / (xij.squaredNorm() + eps);
-    s += (weight * (vi - f.velocities[j]).dot(xij)) * fn.gradW[e];
+    const Vector3r gradW = fn.gradient(e, xij);
+    s += (weight * (vi - f.velocities[j]).dot(xij)) * gradW;
     // grad W_ij = W'(r) x_ij / r is parallel to x_ij, so |x . grad W| x x^T / |x|^2 = -x grad W^T.
-    const Vector3r g = -weight * fn.gradW[e];
+    const Vector3r g = -weight * gradW;
     diagonal += xij.cwiseProduct(g);
     offDiagonal += Vector3r(xij[0], xij[0], xij[1]).cwiseProduct(Vector3r(g[1], g[2], g[2]));
   }

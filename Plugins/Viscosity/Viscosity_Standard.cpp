@@ -68,7 +68,7 @@ void Viscosity_Standard::addAccelerations(StepContext& ctx) {
   // stress suite's fine columns and filled tank. Cost: the forces' phase 0.75 -> 1.1 s over 139
   // steps of DamBreak at r = 0.0125, 2 threads: 2.4 ms of a 77-80 ms step (an eigen-solve per
   // particle in a pass of its own: 11 ms).
-  const Real largest = parallelReduce(f.size(), Real(0), [](Real& into, Real from) { into = std::max(into, from); },
+  const Real largest = parallelReduce(ctx.fluidNeighbors.work, f.size(), Real(0), [](Real& into, Real from) { into = std::max(into, from); },
                                       [&](std::size_t i, Real& largestSoFar) {
     const Real rhoi = f.densities[i];
     Real rate[6] = {0, 0, 0, 0, 0, 0};  // 2 F_i + B_i without the factor 10 / rho_i: xx yy zz xy xz yz

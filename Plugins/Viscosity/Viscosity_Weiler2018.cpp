@@ -64,7 +64,7 @@ void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
     for (Index e = fn.begin(i); e < fn.end(i); ++e) {
       const Index j = fn.indices[e];
       const Vector3r xij = xi - f.positions[j];
-      d += (f.masses[j] / f.densities[j] / (xij.squaredNorm() + eps)) * (fn.gradW[e] * xij.transpose());
+      d += (f.masses[j] / f.densities[j] / (xij.squaredNorm() + eps)) * (fn.gradient(e, xij) * xij.transpose());
     }
     d *= cFluid / rhoi;
     if (boundary) {

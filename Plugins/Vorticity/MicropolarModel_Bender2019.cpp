@@ -56,9 +56,9 @@ void MicropolarModel_Bender2019::addAccelerations(StepContext& ctx) {
     for (Index e = fn.begin(i); e < fn.end(i); ++e) {
       const Index j = fn.indices[e];
       const Real mj = f.masses[j];
-      const Vector3r wij = wi - omega_[j];
-      curlOmega += mj * wij.cross(fn.gradW[e]);
-      curlV += mj * (vi - f.velocities[j]).cross(fn.gradW[e]);
+      const Vector3r wij = wi - omega_[j], gradW = fn.gradient(e, xi - f.positions[j]);
+      curlOmega += mj * wij.cross(gradW);
+      curlV += mj * (vi - f.velocities[j]).cross(gradW);
       smooth += (mj / f.densities[j] * ctx.kernel.W(xi - f.positions[j])) * wij;
     }
     for (Index e = bn.begin(i); e < bn.end(i); ++e) {

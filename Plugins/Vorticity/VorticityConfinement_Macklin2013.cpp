@@ -40,11 +40,11 @@ void VorticityConfinement_Macklin2013::addAccelerations(StepContext& ctx) {
   omegaNorm_.resize(f.size());
   // omega_i = curl v.
   parallelFor(n, [&](std::size_t i) {
-    const Vector3r vi = f.velocities[i];
+    const Vector3r vi = f.velocities[i], xi = f.positions[i];
     Vector3r w = Vector3r::Zero();
     for (Index e = fn.begin(i); e < fn.end(i); ++e) {
       const Index j = fn.indices[e];
-      w += f.masses[j] * (vi - f.velocities[j]).cross(fn.gradW[e]);
+      w += f.masses[j] * (vi - f.velocities[j]).cross(fn.gradient(e, xi - f.positions[j]));
     }
     omega_[i] = w / f.densities[i];
     omegaNorm_[i] = omega_[i].norm();
@@ -55,9 +55,10 @@ void VorticityConfinement_Macklin2013::addAccelerations(StepContext& ctx) {
     const Real wi = omegaNorm_[i];
     if (wi == Real(0)) return;
     Vector3r eta = Vector3r::Zero();
+    const Vector3r xi = f.positions[i];
     for (Index e = fn.begin(i); e < fn.end(i); ++e) {
       const Index j = fn.indices[e];
-      eta += (f.masses[j] * (omegaNorm_[j] - wi)) * fn.gradW[e];
+      eta += (f.masses[j] * (omegaNorm_[j] - wi)) * fn.gradient(e, xi - f.positions[j]);
     }
     eta /= f.densities[i];
     const Real etaNorm = eta.norm();

@@ -55,7 +55,7 @@ struct ParticleSet {
   // Neighbour lists and densities (Eq. 14, no boundary) of the current positions.
   void update() {
     grid.build(fluid.positions.data(), fluid.size(), kernel.supportRadius());
-    buildNeighborLists(grid, fluid.positions.data(), fluid.size(), kernel, true, fluidNeighbors);
+    buildNeighborLists(grid, fluid.positions.data(), fluid.size(), kernel, true, PairGradients::Factors, fluidNeighbors);
     boundaryNeighbors.offsets.assign(fluid.size() + 1, 0);
     boundaryNeighbors.indices.clear();
     boundaryNeighbors.gradW.clear();

@@ -54,7 +54,7 @@ std::vector<Real> constraintSolve(const test::StandaloneStep& s, std::vector<Vec
     Vector3r dCdxi = Vector3r::Zero();
     Real sum = 0;
     for (Index e = nl.begin(i); e < nl.end(i); ++e) {
-      const Vector3r dCdxj = f.masses[nl.indices[e]] * nl.gradW[e];
+      const Vector3r dCdxj = f.masses[nl.indices[e]] * nl.gradient(e, f.positions[i] - f.positions[nl.indices[e]]);
       dCdxi -= dCdxj;
       sum += dCdxj.squaredNorm();
     }
@@ -68,7 +68,7 @@ std::vector<Real> constraintSolve(const test::StandaloneStep& s, std::vector<Vec
       a[i] = Vector3r::Zero();
       for (Index e = nl.begin(i); e < nl.end(i); ++e) {
         const Index j = nl.indices[e];
-        a[i] -= f.masses[j] * (lambda[i] / f.densities[i] + lambda[j] / f.densities[j]) * nl.gradW[e];
+        a[i] -= f.masses[j] * (lambda[i] / f.densities[i] + lambda[j] / f.densities[j]) * nl.gradient(e, f.positions[i] - f.positions[j]);
       }
     }
   };
@@ -79,7 +79,7 @@ std::vector<Real> constraintSolve(const test::StandaloneStep& s, std::vector<Vec
     for (std::size_t i = 0; i < n; ++i) {
       // C_i** = rho0 - rho_i - dt sum_j m_j (v_i** - v_j**) . grad W_ij   (Eq. 26, first line)
       Real c = kRho0 - f.densities[i];
-      for (Index e = nl.begin(i); e < nl.end(i); ++e) c -= kDt * f.masses[nl.indices[e]] * (vss[i] - vss[nl.indices[e]]).dot(nl.gradW[e]);
+      for (Index e = nl.begin(i); e < nl.end(i); ++e) c -= kDt * f.masses[nl.indices[e]] * (vss[i] - vss[nl.indices[e]]).dot(nl.gradient(e, f.positions[i] - f.positions[nl.indices[e]]));
       // Eqs. (19), (22), (27): rho_i A_ii = -dt k_i; lambda_i += omega / (rho_i A_ii) C_i** / dt, clamped at 0.
       next[i] = k[i] > 0 ? std::max(lambda[i] - kOmega * c / (kDt * kDt * k[i]), Real(0)) : Real(0);
     }

@@ -65,7 +65,7 @@ Outcome solveWith(double percent) {
   for (std::size_t i = 0; i < f.size(); ++i) {
     Real rho = f.densities[i];
     for (Index e = nl.begin(i); e < nl.end(i); ++e)
-      rho += kDt * f.masses[nl.indices[e]] * (f.velocities[i] - f.velocities[nl.indices[e]]).dot(nl.gradW[e]);
+      rho += kDt * f.masses[nl.indices[e]] * (f.velocities[i] - f.velocities[nl.indices[e]]).dot(nl.gradient(e, f.positions[i] - f.positions[nl.indices[e]]));
     const Real error = (rho - kRho0) / kRho0;
     o.largestPredicted = std::max(o.largestPredicted, error);
     o.averagePredicted += std::max(error, Real(0)) / Real(f.size());

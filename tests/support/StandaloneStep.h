@@ -15,10 +15,10 @@ struct StandaloneStep {
   void update() {
     PointGrid fluidGrid;
     fluidGrid.build(fluid.positions.data(), fluid.size(), kernel.supportRadius());
-    buildNeighborLists(fluidGrid, fluid.positions.data(), fluid.size(), kernel, true, fluidNeighbors);
+    buildNeighborLists(fluidGrid, fluid.positions.data(), fluid.size(), kernel, true, PairGradients::Factors, fluidNeighbors);
     PointGrid boundaryGrid;
     boundaryGrid.build(boundary.positions.data(), boundary.size(), kernel.supportRadius());
-    buildNeighborLists(boundaryGrid, fluid.positions.data(), fluid.size(), kernel, false, boundaryNeighbors);
+    buildNeighborLists(boundaryGrid, fluid.positions.data(), fluid.size(), kernel, false, PairGradients::Vectors, boundaryNeighbors);
     for (std::size_t i = 0; i < fluid.size(); ++i) {
       Real rho = fluid.masses[i] * kernel.W0();
       for (Index e = fluidNeighbors.begin(i); e < fluidNeighbors.end(i); ++e)

@@ -34,8 +34,13 @@ void expectBruteForce(const std::vector<Vector3r>& targets, const std::vector<Ve
     std::vector<Index> got(lists.indices.begin() + lists.begin(i), lists.indices.begin() + lists.end(i));
     std::sort(got.begin(), got.end());
     ASSERT_EQ(got, expected) << "query " << i;  // same set, no duplicates
-    for (Index e = lists.begin(i); e < lists.end(i); ++e)
-      EXPECT_LT((lists.gradW[e] - kernel.gradW(queries[i] - targets[lists.indices[e]])).norm(), tol);
+    for (Index e = lists.begin(i); e < lists.end(i); ++e) {
+      const Vector3r xij = queries[i] - targets[lists.indices[e]];
+      if (lists.gradW.empty())  // factors: the very bits of a fresh evaluation
+        EXPECT_EQ(lists.gradient(e, xij), kernel.gradW(xij));
+      else
+        EXPECT_LT((lists.gradW[e] - kernel.gradW(xij)).norm(), tol);
+    }
   }
 }
 }  // namespace
@@ -46,7 +51,14 @@ TEST(NeighborSearch, SelfSearchEqualsBruteForce) {
   PointGrid grid;
   grid.build(points.data(), points.size(), kernel.supportRadius());
   NeighborLists lists;
-  buildNeighborLists(grid, points.data(), points.size(), kernel, true, lists);
+  buildNeighborLists(grid, points.data(), points.size(), kernel, true, PairGradients::Vectors, lists);
+  expectBruteForce(points, points, lists, kernel, true);
+  ASSERT_TRUE(lists.gradFactors.empty());
+  // The fluid's own lists keep each gradient as the factor of x_ij (and reuse `lists`: the
+  // vectors of the call before must not linger).
+  buildNeighborLists(grid, points.data(), points.size(), kernel, true, PairGradients::Factors, lists);
+  EXPECT_TRUE(lists.gradW.empty());
+  ASSERT_EQ(lists.gradFactors.size(), lists.pairCount());
   expectBruteForce(points, points, lists, kernel, true);
 }
 
@@ -57,7 +69,7 @@ TEST(NeighborSearch, CrossSetSearchEqualsBruteForce) {
   PointGrid grid;
   grid.build(targets.data(), targets.size(), kernel.supportRadius());
   NeighborLists lists;
-  buildNeighborLists(grid, queries.data(), queries.size(), kernel, false, lists);
+  buildNeighborLists(grid, queries.data(), queries.size(), kernel, false, PairGradients::Vectors, lists);
   expectBruteForce(targets, queries, lists, kernel, false);
 }
 
@@ -69,7 +81,7 @@ TEST(NeighborSearch, NegativeAndFarCoordinatesDoNotAlias) {
   PointGrid grid;
   grid.build(points.data(), points.size(), kernel.supportRadius());
   NeighborLists lists;
-  buildNeighborLists(grid, points.data(), points.size(), kernel, true, lists);
+  buildNeighborLists(grid, points.data(), points.size(), kernel, true, PairGradients::Vectors, lists);
   expectBruteForce(points, points, lists, kernel, true);
 }
 
@@ -91,7 +103,7 @@ TEST(NeighborSearch, ZOrderIsAPermutationAndSearchStillExact) {
   PointGrid grid;
   grid.build(sorted.data(), sorted.size(), kernel.supportRadius());
   NeighborLists lists;
-  buildNeighborLists(grid, sorted.data(), sorted.size(), kernel, true, lists);
+  buildNeighborLists(grid, sorted.data(), sorted.size(), kernel, true, PairGradients::Vectors, lists);
   expectBruteForce(sorted, sorted, lists, kernel, true);
 }
 
@@ -108,14 +120,14 @@ TEST(NeighborSearch, KernelSumsAreTheListsWeightedKernelSums) {
   grid.build(points.data(), points.size(), kernel.supportRadius());
   for (bool self : {true, false}) {
     NeighborLists lists;
-    buildNeighborLists(grid, points.data(), points.size(), kernel, self, lists, weights.data());
+    buildNeighborLists(grid, points.data(), points.size(), kernel, self, PairGradients::Vectors, lists, weights.data());
     ASSERT_EQ(lists.kernelSums.size(), points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
       Real sum = self ? weights[i] * kernel.W0() : Real(0);
       for (Index e = lists.begin(i); e < lists.end(i); ++e) sum += weights[lists.indices[e]] * kernel.W(points[i] - points[lists.indices[e]]);
       ASSERT_NEAR(lists.kernelSums[i], sum, (sizeof(Real) == 8 ? 1e-12 : 1e-5) * sum) << "query " << i << (self ? " (self search)" : "");
     }
-    buildNeighborLists(grid, points.data(), points.size(), kernel, self, lists);
+    buildNeighborLists(grid, points.data(), points.size(), kernel, self, PairGradients::Vectors, lists);
     EXPECT_TRUE(lists.kernelSums.empty());
   }
 }
@@ -127,7 +139,7 @@ TEST(NeighborSearch, TransposeReversesEveryPair) {
   PointGrid grid;
   grid.build(targets.data(), targets.size(), kernel.supportRadius());
   NeighborLists lists, reversed;
-  buildNeighborLists(grid, queries.data(), queries.size(), kernel, false, lists);
+  buildNeighborLists(grid, queries.data(), queries.size(), kernel, false, PairGradients::Vectors, lists);
   transposeNeighborLists(lists, targets.size(), reversed);
   ASSERT_EQ(reversed.pairCount(), lists.pairCount());
   for (std::size_t k = 0; k < targets.size(); ++k)
@@ -145,7 +157,7 @@ TEST(NeighborSearch, EmptySets) {
   grid.build(nullptr, 0, kernel.supportRadius());
   const auto queries = randomPoints(10, 9, Real(0.1));
   NeighborLists lists;
-  buildNeighborLists(grid, queries.data(), queries.size(), kernel, false, lists);
+  buildNeighborLists(grid, queries.data(), queries.size(), kernel, false, PairGradients::Vectors, lists);
   EXPECT_EQ(lists.pairCount(), 0u);
   EXPECT_EQ(lists.queryCount(), 10u);
 }

@@ -179,3 +179,46 @@ TEST(ParallelFor, ChunksAreParallelForsThreadChunksInIndexOrder) {
     }
   }
 }
+
+TEST(ParallelFor, WorkPartitionSplitsByCostIntoContiguousRanges) {
+  // Costs like a dam break's neighbour lists: the first half of the indices twice as costly.
+  for (int threads : kThreadCounts) {
+    Threads t(threads);
+    for (std::size_t n : kSizes) {
+      std::vector<std::size_t> cumulative(n + 1, 0);
+      for (std::size_t i = 0; i < n; ++i) cumulative[i + 1] = cumulative[i] + (i < n / 2 ? 2 : 1);
+      WorkPartition work;
+      work.balance(n, parallelChunkCount(), [&](std::size_t i) { return cumulative[i]; });
+      ASSERT_EQ(work.size(), n);
+      ASSERT_EQ(work.chunks(), std::size_t(threads));
+      // Contiguous, in order, covering [0, n); each range's cost within one index's cost of an
+      // equal share.
+      const double share = double(cumulative[n]) / threads;
+      for (std::size_t c = 0; c < work.chunks(); ++c) {
+        EXPECT_EQ(work.begin(c), c == 0 ? 0 : work.end(c - 1));
+        EXPECT_LE(work.begin(c), work.end(c));
+        if (n >= 1000) EXPECT_NEAR(double(cumulative[work.end(c)] - cumulative[work.begin(c)]), share, 2.0) << c;
+      }
+      // Every index once; the reduction is the serial sum over each range, joined in range order
+      // (the same bits whatever team runs it, a smaller one too).
+      std::vector<int> visits(n, 0);
+      parallelFor(work, n, [&](std::size_t i) { ++visits[i]; });
+      for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(visits[i], 1) << "n = " << n << ", i = " << i;
+      double expected = 0;
+      for (std::size_t c = 0; c < work.chunks(); ++c) {
+        double part = 0;
+        for (std::size_t i = work.begin(c); i < work.end(c); ++i) part += term(i);
+        expected += part;
+      }
+      EXPECT_EQ(parallelSum<double>(work, n, term), expected) << "n = " << n << ", " << threads << " threads";
+      {
+        Threads fewer(1);
+        EXPECT_EQ(parallelSum<double>(work, n, term), expected) << "one thread running " << threads << " ranges";
+      }
+      // A partition of another size is not used: the loop falls back to equal chunks.
+      std::vector<int> more(n + 1, 0);
+      parallelFor(work, n + 1, [&](std::size_t i) { ++more[i]; });
+      for (std::size_t i = 0; i <= n; ++i) ASSERT_EQ(more[i], 1);
+    }
+  }
+}
