@@ -197,7 +197,9 @@ TEST(ParallelFor, WorkPartitionSplitsByCostIntoContiguousRanges) {
       for (std::size_t c = 0; c < work.chunks(); ++c) {
         EXPECT_EQ(work.begin(c), c == 0 ? 0 : work.end(c - 1));
         EXPECT_LE(work.begin(c), work.end(c));
-        if (n >= 1000) EXPECT_NEAR(double(cumulative[work.end(c)] - cumulative[work.begin(c)]), share, 2.0) << c;
+        if (n >= 1000) {
+          EXPECT_NEAR(double(cumulative[work.end(c)] - cumulative[work.begin(c)]), share, 2.0) << c;
+        }
       }
       // Every index once; the reduction is the serial sum over each range, joined in range order
       // (the same bits whatever team runs it, a smaller one too).
