@@ -16,8 +16,9 @@
 //   parallelFor(work, n, f), parallelReduce(work, n, id, join, body), parallelChunks(work, body)
 //                                  the same over a WorkPartition: contiguous ranges holding equal
 //                                  shares of a per-index cost (a particle's neighbour pairs), for
-//                                  the loops over neighbour lists, whose cost per particle varies
-//                                  by 1.3x and more between a splash and the bulk
+//                                  the loops over neighbour lists (a particle at the free surface
+//                                  has a fraction of the bulk's pairs; a dam break's first half of
+//                                  Z-sorted particles held up to 1.3x the pairs of its second)
 //   parallelChunks(n, body)        body(chunk, begin, end) once per thread over its contiguous
 //                                  chunk [begin, end) of [0, n), the chunks of parallelFor's static
 //                                  schedule, chunk = 0 .. parallelChunkCount() - 1 in index order:
