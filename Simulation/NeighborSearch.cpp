@@ -10,6 +10,9 @@
 #if defined(__AVX512F__) && defined(__AVX512VL__)
 #include <immintrin.h>
 #define CONSPH_NEIGHBOR_AVX512 1
+#elif defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#define CONSPH_NEIGHBOR_AVX2 1
 #endif
 
 namespace consph {
@@ -41,12 +44,54 @@ __mmask16 withinRadius(__mmask16 live, const Real* cx, const Real* cy, const Rea
 #endif
 #endif
 
+#if defined(CONSPH_NEIGHBOR_AVX2)
+// AVX2 has no compress-store: row `mask` of this table holds the lanes of the set bits of an
+// 8-bit mask, packed to the front in ascending order (the rest 0), so that one permute-free
+// store of position + row writes the accepted candidates of 8 in order.
+struct LeftPackTable {
+  alignas(32) std::uint32_t lanes[256][8];
+  constexpr LeftPackTable() : lanes{} {
+    for (unsigned mask = 0; mask < 256; ++mask) {
+      unsigned m = 0;
+      for (unsigned lane = 0; lane < 8; ++lane)
+        if (mask >> lane & 1u) lanes[mask][m++] = lane;
+    }
+  }
+};
+constexpr LeftPackTable kLeftPack;
+
+// The 8-bit mask of the candidates at c within sqrt(h2) of p, |x_i - x_j|^2 contracted as the
+// scalar path's (dx^2, then + dy^2, then + dz^2, fused).
+#if CONSPH_USE_DOUBLE
+unsigned withinRadius8(const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2) {
+  const auto half = [&](std::size_t o) {  // 4 doubles at a time
+    const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(p[0]), _mm256_loadu_pd(cx + o));
+    const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(p[1]), _mm256_loadu_pd(cy + o));
+    const __m256d dz = _mm256_sub_pd(_mm256_set1_pd(p[2]), _mm256_loadu_pd(cz + o));
+    const __m256d d2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
+    return unsigned(_mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_set1_pd(h2), _CMP_LE_OQ)));
+  };
+  return half(0) | half(4) << 4;
+}
+#else
+unsigned withinRadius8(const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2) {
+  const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(p[0]), _mm256_loadu_ps(cx));
+  const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(p[1]), _mm256_loadu_ps(cy));
+  const __m256 dz = _mm256_sub_ps(_mm256_set1_ps(p[2]), _mm256_loadu_ps(cz));
+  const __m256 d2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
+  return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d2, _mm256_set1_ps(h2), _CMP_LE_OQ)));
+}
+#endif
+#endif
+
 // Writes the positions k in [first, last), in ascending order, of the candidates (SoA cx, cy, cz,
 // ids) within sqrt(h2) of p whose id is not `self`, and returns how many. About one candidate in six
 // passes, in no pattern a branch predictor can learn, so there is no branch per candidate: with
-// AVX-512 the test and the compaction (vpcompressd) take 16 candidates at a time; otherwise a
-// vectorised distance loop and a branch-free scalar compaction. Both paths give the same lists
-// (perf, bench/RESULTS.md "Where the volume-map dam break's step goes").
+// AVX-512 the test and the compaction (vpcompressd) take 16 candidates at a time; with AVX2 (no
+// compress-store) 8 at a time through a table of packed lanes (kLeftPack); otherwise a
+// vectorised distance loop and a branch-free scalar compaction. The paths give the same lists
+// (perf, bench/RESULTS.md "Where the volume-map dam break's step goes"; on an AVX2-only EPYC
+// the scalar compaction was a third of the list build: "AVX2 compaction, kernel in batches").
 std::size_t acceptCandidates(const Real* cx, const Real* cy, const Real* cz, const Index* ids, std::size_t first,
                              std::size_t last, const Vector3r& p, Real h2, Index self, Index* accepted) {
   std::size_t k = first, m = 0;
@@ -64,6 +109,21 @@ std::size_t acceptCandidates(const Real* cx, const Real* cy, const Real* cz, con
     position = _mm512_add_epi32(position, step);
   }
 #else
+#if defined(CONSPH_NEIGHBOR_AVX2)
+  // 8 candidates at a time: the mask of those within reach and not `self` picks a row of
+  // kLeftPack, and one 8-lane store writes their positions to accepted[m..m+7]. The lanes past
+  // the accepted ones are junk that the next store overwrites or nobody reads, and they stay
+  // within the candidates' room: m counts at most the candidates before these 8.
+  // The last few (under 8) go through the block loop below.
+  const __m256i selfId = _mm256_set1_epi32(int(self));
+  for (; k + 8 <= last; k += 8) {
+    const __m256i sameId = _mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids + k)), selfId);
+    const unsigned in = withinRadius8(cx + k, cy + k, cz + k, p, h2) & ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(sameId)));
+    const __m256i lanes = _mm256_load_si256(reinterpret_cast<const __m256i*>(kLeftPack.lanes[in]));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(accepted + m), _mm256_add_epi32(_mm256_set1_epi32(int(k)), lanes));
+    m += std::size_t(__builtin_popcount(in));
+  }
+#endif
   // Blocks of candidates: the distances vectorise, the compaction is scalar.
   constexpr std::size_t kBlock = 64;
   Real d2[kBlock];
@@ -155,6 +215,9 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
   out.scratchGradW.resize(chunks);
   out.scratchGradFactors.resize(chunks);
   out.scratchAccepted.resize(chunks);
+  out.scratchDistances.resize(chunks);
+  out.scratchKernelValues.resize(chunks);
+  out.scratchKernelFactors.resize(chunks);
   std::vector<std::size_t> chunkBegin(chunks, n);
   // The ranges of the last build's balance while the queries are the same ones (their pairs
   // change little from step to step), equal ones otherwise.
@@ -182,6 +245,8 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
     std::vector<Index> idx = std::move(out.scratchIndices[t]), accepted = std::move(out.scratchAccepted[t]);
     std::vector<Vector3r> grad = std::move(out.scratchGradW[t]);
     std::vector<Real> factor = std::move(out.scratchGradFactors[t]);
+    std::vector<Real> distance = std::move(out.scratchDistances[t]), value = std::move(out.scratchKernelValues[t]),
+                      gradientFactor = std::move(out.scratchKernelFactors[t]);
     idx.clear();
     grad.clear();
     factor.clear();
@@ -218,26 +283,36 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
       else
         grad.resize(before + m);
       const Real px = xi[0], py = xi[1], pz = xi[2];
-      // With weights, the same sum, in the same order, as a loop over the finished list would give.
-      Real sum = excludeSelf && kernelWeights ? kernelWeights[i] * kernel.W0() : Real(0);
+      // The pairs' distances and indices, then the kernel for all of them at once (vectorised,
+      // Kernel::evaluate), then the gradients and the weighted sum.
+      if (distance.size() < m) distance.resize(m), value.resize(m), gradientFactor.resize(m);
       for (std::size_t a = 0; a < m; ++a) {
         const std::size_t s = accepted[a];
-        const Vector3r x(px - sx[s], py - sy[s], pz - sz[s]);
-        const Real r = x.norm(), g = kernel.gradFactor(r);
+        distance[a] = Vector3r(px - sx[s], py - sy[s], pz - sz[s]).norm();
         idx[before + a] = si[s];
-        if (factors)
-          factor[before + a] = g;
-        else
-          grad[before + a] = x * g;  // Kernel::gradW(x)
-        if (kernelWeights) sum += kernelWeights[si[s]] * kernel.W(r);
       }
-      if (kernelWeights) out.kernelSums[i] = sum;
+      Real* g = factors ? factor.data() + before : gradientFactor.data();
+      kernel.evaluate(distance.data(), m, g, kernelWeights ? value.data() : nullptr);
+      if (!factors)
+        for (std::size_t a = 0; a < m; ++a) {
+          const std::size_t s = accepted[a];
+          grad[before + a] = Vector3r(px - sx[s], py - sy[s], pz - sz[s]) * g[a];  // Kernel::gradW(x)
+        }
+      if (kernelWeights) {
+        // The same sum, in the same order, as a loop over the finished list would give.
+        Real sum = excludeSelf ? kernelWeights[i] * kernel.W0() : Real(0);
+        for (std::size_t a = 0; a < m; ++a) sum += kernelWeights[idx[before + a]] * value[a];
+        out.kernelSums[i] = sum;
+      }
       out.offsets[i + 1] = Index(m);
     }
     out.scratchIndices[t] = std::move(idx);
     out.scratchGradW[t] = std::move(grad);
     out.scratchGradFactors[t] = std::move(factor);
     out.scratchAccepted[t] = std::move(accepted);
+    out.scratchDistances[t] = std::move(distance);
+    out.scratchKernelValues[t] = std::move(value);
+    out.scratchKernelFactors[t] = std::move(gradientFactor);
   });
   for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
   out.work.balance(n, chunks, [&](std::size_t i) { return std::size_t(out.offsets[i]) + kCostPerQuery * i; });

@@ -42,6 +42,7 @@ struct NeighborLists {
   std::vector<std::vector<Vector3r>> scratchGradW;
   std::vector<std::vector<Real>> scratchGradFactors;
   std::vector<std::vector<Index>> scratchAccepted;  // per thread: the accepted candidates of one query
+  std::vector<std::vector<Real>> scratchDistances, scratchKernelValues, scratchKernelFactors;  // per thread: theirs |x_ij|, W, gradFactor
 
   std::size_t queryCount() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   Index begin(std::size_t i) const { return offsets[i]; }

@@ -1,7 +1,9 @@
 // Cubic spline kernel: normalisation, symmetry and gradient properties.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "Simulation/Kernel.h"
 #include "TestUtil.h"
@@ -82,4 +84,24 @@ TEST(CubicSplineKernel, DWdrIsTheRadialDerivative) {
     EXPECT_NEAR(kernel.dWdr(r), kernel.gradW(Vector3r(r, 0, 0))[0], 1e-9 * kernel.W0() / kernel.supportRadius());
   }
   EXPECT_EQ(kernel.dWdr(Real(0.11)), 0);
+}
+
+// The batch form the neighbour search uses (Kernel::evaluate, vectorised, both spline pieces
+// computed and one picked) gives the scalar functions' bits at every distance a list can hold and
+// at the pieces' edges: r = 0, the r < 1e-9 h cut, q = 1/2, q = 1 and beyond, and a tail that is
+// not a whole vector.
+TEST(CubicSplineKernel, BatchEvaluationHasTheScalarFunctionsBits) {
+  const Real h = Real(0.05);
+  const CubicSplineKernel kernel(h);
+  std::vector<Real> r = {0, Real(1e-12), Real(0.5) * h, std::nextafter(Real(0.5) * h, Real(1)), h, std::nextafter(h, Real(1)),
+                         Real(1.5) * h};
+  for (int i = 0; i < 4001; ++i) r.push_back(Real(1.2) * h * Real(i) / Real(4000));
+  std::vector<Real> g(r.size()), w(r.size()), gOnly(r.size());
+  kernel.evaluate(r.data(), r.size(), g.data(), w.data());
+  kernel.evaluate(r.data(), r.size(), gOnly.data(), nullptr);
+  for (std::size_t a = 0; a < r.size(); ++a) {
+    ASSERT_EQ(g[a], kernel.gradFactor(r[a])) << "r = " << r[a];
+    ASSERT_EQ(gOnly[a], kernel.gradFactor(r[a])) << "r = " << r[a];
+    ASSERT_EQ(w[a], kernel.W(r[a])) << "r = " << r[a];
+  }
 }
