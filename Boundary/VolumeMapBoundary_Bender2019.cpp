@@ -319,7 +319,8 @@ bool VolumeMapBoundary_Bender2019::virtualParticle(std::size_t piece, const Vect
   return true;
 }
 
-Real VolumeMapBoundary_Bender2019::approachStepLimit(const FluidModel& fluid, const CubicSplineKernel& kernel) const {
+Real VolumeMapBoundary_Bender2019::approachStepLimit(const FluidModel& fluid, const NeighborLists& neighbors,
+                                                       const CubicSplineKernel& kernel) const {
   // rho_b(x): the static maps' boundary density, the sum of their virtual particles' m~ W.
   // Moving at v, a particle sees it change by grad rho_b . v dt (the density solve's linear
   // prediction) plus 1/2 kappa (|v| dt)^2, kappa = d^2 rho_b / du^2 along u = v / |v| (central
@@ -354,11 +355,15 @@ Real VolumeMapBoundary_Bender2019::approachStepLimit(const FluidModel& fluid, co
         const Real speed = v.norm();
         if (speed < Real(1e-6)) return;
         const Vector3r x = fluid.positions[i], u = v / speed;
-        Vector3r xk, gk;
-        Real mk;
-        for (const std::size_t p : movingPieces_)
-          if (virtualParticle(p, x, kernel, xk, mk, gk)) return;
-        const Real r0 = staticDensity(x), rp = staticDensity(x + delta * u);
+        // At x itself this step's lists hold the virtual particles (findNeighbors, in piece
+        // order): staticDensity(x)'s terms in its order, without sampling the maps again (the
+        // compiler may fuse the sum's multiply-adds differently: within an ulp).
+        Real r0 = 0;
+        for (Index e = neighbors.begin(i); e < neighbors.end(i); ++e) {
+          if (moving_[samples_.bodies[e]]) return;
+          r0 += samples_.masses[e] * kernel.W(x - samples_.positions[e]);
+        }
+        const Real rp = staticDensity(x + delta * u);
         if (r0 <= 0 && rp <= 0) return;  // no static wall within reach, now or r/2 on
         const Real rm = staticDensity(x - delta * u);
         const Real kappa = (rp - 2 * r0 + rm) / (delta * delta);
@@ -413,14 +418,36 @@ void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const 
   const std::size_t n = fluid.size(), pieces = pieces_.size();
   out.offsets.resize(n + 1);
   out.offsets[0] = 0;
-  // Two passes (count, then fill) give one CSR array without locks; the second evaluates the
-  // maps again, which costs less than storing every candidate.
-  parallelFor(n, [&](std::size_t i) {
-    Index count = 0;
-    Vector3r xk, gk;
-    Real mk;
-    for (std::size_t p = 0; p < pieces; ++p) count += virtualParticle(p, fluid.positions[i], kernel, xk, mk, gk);
-    out.offsets[i + 1] = count;
+  // One pass over the maps: each thread keeps the virtual particles of its contiguous chunk of
+  // fluid particles in its own buffer (kept across steps, so steady steps allocate nothing), and
+  // the buffers are then copied into the CSR arrays in chunk order. A count pass and a fill pass
+  // would sample every map twice per particle.
+  const std::size_t chunks = parallelChunkCount();
+  chunkScratch_.resize(chunks);
+  for (auto& found : chunkScratch_) found.clear();  // a chunk a smaller team leaves out copies nothing
+  std::vector<std::size_t> chunkBegin(chunks, n);
+  parallelChunks(n, [&](std::size_t t, std::size_t begin, std::size_t end) {
+    chunkBegin[t] = begin;
+    // A local header: no false sharing of the vectors' sizes between threads.
+    std::vector<VirtualParticle> found = std::move(chunkScratch_[t]);
+    for (std::size_t i = begin; i < end; ++i) {
+      const Vector3r xi = fluid.positions[i];
+      Index count = 0;
+      for (std::size_t p = 0; p < pieces; ++p) {
+        VirtualParticle v;
+        if (!virtualParticle(p, xi, kernel, v.position, v.mass, v.gradient)) continue;
+        const std::size_t o = pieces_[p].object;
+        // The body's velocity where the fluid particle is: the boundary density there, a function
+        // of x_i in the body's frame, changes at grad rho_b . (v_i - v_body(x_i)).
+        v.velocity = moving_[o] ? poses_[o].velocityAt(xi) : Vector3r::Zero();
+        v.body = Index(o);
+        v.piece = Index(p);
+        found.push_back(v);
+        ++count;
+      }
+      out.offsets[i + 1] = count;
+    }
+    chunkScratch_[t] = std::move(found);
   });
   for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
   const std::size_t pairs = out.offsets[n];
@@ -428,23 +455,17 @@ void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const 
   samplePieces_.resize(pairs);
   out.indices.resize(pairs);
   out.gradW.resize(pairs);
-  parallelFor(n, [&](std::size_t i) {
-    Index e = out.offsets[i];
-    const Vector3r xi = fluid.positions[i];
-    for (std::size_t p = 0; p < pieces; ++p) {
-      Vector3r xk, gk;
-      Real mk;
-      if (!virtualParticle(p, xi, kernel, xk, mk, gk)) continue;
-      const std::size_t o = pieces_[p].object;
-      samples_.positions[e] = xk;
-      // The body's velocity where the fluid particle is: the boundary density there, a function
-      // of x_i in the body's frame, changes at grad rho_b . (v_i - v_body(x_i)).
-      samples_.velocities[e] = moving_[o] ? poses_[o].velocityAt(xi) : Vector3r::Zero();
-      samples_.masses[e] = mk;
-      samples_.bodies[e] = Index(o);
-      samplePieces_[e] = Index(p);
+  out.gradFactors.clear();
+  parallelFor(chunks, [&](std::size_t t) {
+    Index e = out.offsets[chunkBegin[t]];
+    for (const VirtualParticle& v : chunkScratch_[t]) {
+      samples_.positions[e] = v.position;
+      samples_.velocities[e] = v.velocity;
+      samples_.masses[e] = v.mass;
+      samples_.bodies[e] = v.body;
+      samplePieces_[e] = v.piece;
       out.indices[e] = e;
-      out.gradW[e] = gk;
+      out.gradW[e] = v.gradient;
       ++e;
     }
   });

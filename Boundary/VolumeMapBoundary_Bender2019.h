@@ -72,7 +72,7 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   // density pass) may take the longer step over which its whole change stays under that. Static
   // maps only, and no particle within reach of a moving body: the gaps a body closes are closing
   // gaps (the .cpp says what counting them did).
-  Real approachStepLimit(const FluidModel& fluid, const CubicSplineKernel& kernel) const override;
+  Real approachStepLimit(const FluidModel& fluid, const NeighborLists& neighbors, const CubicSplineKernel& kernel) const override;
   // The maps: one per object, or one per wall of a box container ("containers": "walls").
   std::size_t mapCount() const { return pieces_.size(); }
   const VolumeMap& pieceMap(std::size_t piece) const { return *pieces_[piece].map; }
@@ -135,6 +135,13 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   std::vector<std::size_t> staticPieces_, movingPieces_;  // the pieces of static / moving objects
   std::vector<std::size_t> firstPiece_;  // per object
   std::vector<Index> samplePieces_;      // per virtual particle (pair): its map
+  // findNeighbors' per-chunk buffers: a virtual particle as found, before it goes into the lists.
+  struct VirtualParticle {
+    Vector3r position, velocity, gradient;
+    Real mass;
+    Index body, piece;
+  };
+  std::vector<std::vector<VirtualParticle>> chunkScratch_;
   std::vector<char> moving_;          // per object: dynamic or animated
   std::vector<ObjectPose> poses_;     // per object; identity for static ones
 };

@@ -92,8 +92,9 @@ class BoundaryModel {
   // object, volume maps), not a fixed sampling of the surfaces.
   virtual bool implicit() const { return false; }
   // The longest step the boundary allows the particles as they move now (the time step takes it
-  // like the CFL condition); infinity: no limit (VolumeMap's approachTolerance).
-  virtual Real approachStepLimit(const FluidModel& fluid, const CubicSplineKernel& kernel) const {
+  // like the CFL condition); infinity: no limit (VolumeMap's approachTolerance). `neighbors`: the
+  // lists this step's findNeighbors filled, for the particles where they are now.
+  virtual Real approachStepLimit(const FluidModel& fluid, const NeighborLists& neighbors, const CubicSplineKernel& kernel) const {
     return std::numeric_limits<Real>::infinity();
   }
   // How far object o's samples lie inside its solid (0: on its surface); rigid contact uses it.
