@@ -56,11 +56,11 @@ class CubicSplineKernel {
   Vector3r gradW(const Vector3r& x) const { return x * gradFactor(x.norm()); }
 
   // gradFactor(r[a]) into g[a] and, where w is given, W(r[a]) into w[a], for a in [0, n): the
-  // neighbour search's accepted pairs, 8 at a time where the compiler vectorises (AVX2). Both
-  // pieces of the spline are computed and the right one picked, each written as the functions
-  // above write it, so the values have the same bits as theirs (the list tests assert it);
-  // branching per pair on q <= 1/2, which holds for an eighth of the pairs in no pattern, cost
-  // more than computing both.
+  // neighbour search's accepted pairs, a vector register at a time (8 floats or 4 doubles with
+  // AVX2). Both pieces of the spline are computed and the right one picked, each written as the
+  // functions above write it, so the values have the same bits as theirs (the kernel and list
+  // tests assert it); branching per pair on q <= 1/2, which holds for an eighth of the pairs in
+  // no pattern, cost more than computing both.
   void evaluate(const Real* r, std::size_t n, Real* g, Real* w) const {
     if (w)
       evaluatePieces<true>(r, n, g, w);

@@ -19,9 +19,10 @@ namespace consph {
 
 namespace {
 #if defined(CONSPH_NEIGHBOR_AVX512)
-// Which of the 16 candidates at c (the `live` ones) lie within sqrt(h2) of p. |x_i - x_j|^2 is
-// computed as GCC contracts the plain expression where it has FMA (dx^2, then + dy^2, then
-// + dz^2, fused), as the scalar path below does.
+// Which of the 16 candidates at c (the `live` ones) lie within sqrt(h2) of p, |x_i - x_j|^2 as
+// dx^2, then + dy^2, then + dz^2, fused (the AVX2 path's order; the scalar fallback's is the
+// compiler's, so machines on different paths may decide a pair within an ulp of h differently,
+// where W and grad W are zero to within an ulp).
 #if CONSPH_USE_DOUBLE
 __mmask16 withinRadius(__mmask16 live, const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2) {
   const auto half = [&](__mmask8 l, std::size_t o) {  // 8 doubles at a time
@@ -60,28 +61,39 @@ struct LeftPackTable {
 };
 constexpr LeftPackTable kLeftPack;
 
-// The 8-bit mask of the candidates at c within sqrt(h2) of p, |x_i - x_j|^2 contracted as the
-// scalar path's (dx^2, then + dy^2, then + dz^2, fused).
+// The 8-bit mask of the candidates at c within sqrt(h2) of p, of the first `live` (1-8) of them:
+// a range's last few are read with masked loads, so that every candidate of a list goes through
+// this one formula for |x_i - x_j|^2 (a scalar tail contracted by the compiler may fuse in
+// another order and, within an ulp of h, decide a pair differently: j listing i but not i j).
 #if CONSPH_USE_DOUBLE
-unsigned withinRadius8(const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2) {
+unsigned withinRadius8(const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2, std::size_t live) {
   const auto half = [&](std::size_t o) {  // 4 doubles at a time
-    const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(p[0]), _mm256_loadu_pd(cx + o));
-    const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(p[1]), _mm256_loadu_pd(cy + o));
-    const __m256d dz = _mm256_sub_pd(_mm256_set1_pd(p[2]), _mm256_loadu_pd(cz + o));
+    using Lane = long long;
+    const __m256i on = _mm256_cmpgt_epi64(_mm256_set1_epi64x(Lane(live)), _mm256_setr_epi64x(Lane(o), Lane(o + 1), Lane(o + 2), Lane(o + 3)));
+    const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(p[0]), _mm256_maskload_pd(cx + o, on));
+    const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(p[1]), _mm256_maskload_pd(cy + o, on));
+    const __m256d dz = _mm256_sub_pd(_mm256_set1_pd(p[2]), _mm256_maskload_pd(cz + o, on));
     const __m256d d2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
     return unsigned(_mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_set1_pd(h2), _CMP_LE_OQ)));
   };
-  return half(0) | half(4) << 4;
+  return (half(0) | half(4) << 4) & ((1u << live) - 1);
 }
 #else
-unsigned withinRadius8(const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2) {
-  const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(p[0]), _mm256_loadu_ps(cx));
-  const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(p[1]), _mm256_loadu_ps(cy));
-  const __m256 dz = _mm256_sub_ps(_mm256_set1_ps(p[2]), _mm256_loadu_ps(cz));
+unsigned withinRadius8(const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2, std::size_t live) {
+  const __m256i on = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(live)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(p[0]), _mm256_maskload_ps(cx, on));
+  const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(p[1]), _mm256_maskload_ps(cy, on));
+  const __m256 dz = _mm256_sub_ps(_mm256_set1_ps(p[2]), _mm256_maskload_ps(cz, on));
   const __m256 d2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
-  return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d2, _mm256_set1_ps(h2), _CMP_LE_OQ)));
+  return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d2, _mm256_set1_ps(h2), _CMP_LE_OQ))) & ((1u << live) - 1);
 }
 #endif
+// The mask of the first `live` ids that are `self`.
+unsigned sameIds8(const Index* ids, Index self, std::size_t live) {
+  const __m256i on = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(live)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  const __m256i same = _mm256_cmpeq_epi32(_mm256_maskload_epi32(reinterpret_cast<const int*>(ids), on), _mm256_set1_epi32(int(self)));
+  return unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(same))) & ((1u << live) - 1);
+}
 #endif
 
 // Writes the positions k in [first, last), in ascending order, of the candidates (SoA cx, cy, cz,
@@ -89,9 +101,11 @@ unsigned withinRadius8(const Real* cx, const Real* cy, const Real* cz, const Vec
 // passes, in no pattern a branch predictor can learn, so there is no branch per candidate: with
 // AVX-512 the test and the compaction (vpcompressd) take 16 candidates at a time; with AVX2 (no
 // compress-store) 8 at a time through a table of packed lanes (kLeftPack); otherwise a
-// vectorised distance loop and a branch-free scalar compaction. The paths give the same lists
-// (perf, bench/RESULTS.md "Where the volume-map dam break's step goes"; on an AVX2-only EPYC
-// the scalar compaction was a third of the list build: "AVX2 compaction, kernel in batches").
+// vectorised distance loop and a branch-free scalar compaction. Within one build every candidate
+// takes one formula, so lists are symmetric (j lists i iff i lists j); the paths agree but for
+// pairs within an ulp of h (perf, bench/RESULTS.md "Where the volume-map dam break's step goes";
+// on an AVX2-only EPYC the scalar compaction was a third of the list build: "AVX2 compaction,
+// kernel in batches").
 std::size_t acceptCandidates(const Real* cx, const Real* cy, const Real* cz, const Index* ids, std::size_t first,
                              std::size_t last, const Vector3r& p, Real h2, Index self, Index* accepted) {
   std::size_t k = first, m = 0;
@@ -108,22 +122,28 @@ std::size_t acceptCandidates(const Real* cx, const Real* cy, const Real* cz, con
     m += std::size_t(__builtin_popcount(unsigned(in)));
     position = _mm512_add_epi32(position, step);
   }
-#else
-#if defined(CONSPH_NEIGHBOR_AVX2)
+#elif defined(CONSPH_NEIGHBOR_AVX2)
   // 8 candidates at a time: the mask of those within reach and not `self` picks a row of
   // kLeftPack, and one 8-lane store writes their positions to accepted[m..m+7]. The lanes past
   // the accepted ones are junk that the next store overwrites or nobody reads, and they stay
-  // within the candidates' room: m counts at most the candidates before these 8.
-  // The last few (under 8) go through the block loop below.
-  const __m256i selfId = _mm256_set1_epi32(int(self));
+  // within the candidates' room: m counts at most the candidates before these 8. The last few
+  // (under 8) take the same test with masked loads and a scalar compaction, whose stores stay
+  // within the range.
   for (; k + 8 <= last; k += 8) {
-    const __m256i sameId = _mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids + k)), selfId);
-    const unsigned in = withinRadius8(cx + k, cy + k, cz + k, p, h2) & ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(sameId)));
+    const unsigned in = withinRadius8(cx + k, cy + k, cz + k, p, h2, 8) & ~sameIds8(ids + k, self, 8);
     const __m256i lanes = _mm256_load_si256(reinterpret_cast<const __m256i*>(kLeftPack.lanes[in]));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(accepted + m), _mm256_add_epi32(_mm256_set1_epi32(int(k)), lanes));
     m += std::size_t(__builtin_popcount(in));
   }
-#endif
+  if (k < last) {
+    const std::size_t live = last - k;
+    const unsigned in = withinRadius8(cx + k, cy + k, cz + k, p, h2, live) & ~sameIds8(ids + k, self, live);
+    for (std::size_t j = 0; j < live; ++j) {
+      accepted[m] = Index(k + j);
+      m += (in >> j) & 1u;
+    }
+  }
+#else
   // Blocks of candidates: the distances vectorise, the compaction is scalar.
   constexpr std::size_t kBlock = 64;
   Real d2[kBlock];

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <random>
 #include <set>
@@ -171,4 +172,37 @@ TEST(NeighborSearch, NonFinitePointsAreRefusedNotLoopedOn) {
     PointGrid grid;
     EXPECT_THROW(grid.build(points.data(), points.size(), Real(0.1)), SimulationError) << bad.transpose();
   }
+}
+
+// A pair lists both ways or not at all, also at the support radius itself, where the rounding of
+// |x_i - x_j|^2 decides: every candidate of a build, whichever SIMD block or tail of its cell
+// range it falls in, takes one formula. Points on spheres of radius h about a few centres (their
+// distances h to within an ulp or two) and a scatter of others that puts the sphere points at
+// varying places in their ranges.
+TEST(NeighborSearch, ListsAreSymmetricAtTheSupportRadius) {
+  const CubicSplineKernel kernel(Real(0.1));
+  const Real h = kernel.supportRadius();
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  auto points = randomPoints(600, 2, Real(0.4));
+  for (int c = 0; c < 6; ++c) {
+    const Vector3r centre = points[std::size_t(c) * 50];
+    for (int s = 0; s < 300; ++s) {
+      Vector3r d(Real(normal(rng)), Real(normal(rng)), Real(normal(rng)));
+      points.push_back(centre + h * d.normalized());
+    }
+  }
+  PointGrid grid;
+  grid.build(points.data(), points.size(), h);
+  NeighborLists lists;
+  buildNeighborLists(grid, points.data(), points.size(), kernel, true, PairGradients::Factors, lists);
+  std::set<std::pair<Index, Index>> pairs;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (Index e = lists.begin(i); e < lists.end(i); ++e) pairs.insert({Index(i), lists.indices[e]});
+  std::size_t atRadius = 0;
+  for (const auto& [i, j] : pairs) {
+    EXPECT_TRUE(pairs.count({j, i})) << "j = " << j << " lists i = " << i << " but not the other way round";
+    atRadius += std::abs((points[i] - points[j]).norm() - h) < Real(1e-5) * h;
+  }
+  EXPECT_GT(atRadius, 1000u);  // the test exercised the radius itself
 }
