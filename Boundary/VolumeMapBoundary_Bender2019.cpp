@@ -360,8 +360,9 @@ Real VolumeMapBoundary_Bender2019::approachStepLimit(const FluidModel& fluid, co
         // compiler may fuse the sum's multiply-adds differently: within an ulp).
         Real r0 = 0;
         for (Index e = neighbors.begin(i); e < neighbors.end(i); ++e) {
-          if (moving_[samples_.bodies[e]]) return;
-          r0 += samples_.masses[e] * kernel.W(x - samples_.positions[e]);
+          const Index k = neighbors.indices[e];
+          if (moving_[samples_.bodies[k]]) return;
+          r0 += samples_.masses[k] * kernel.W(x - samples_.positions[k]);
         }
         const Real rp = staticDensity(x + delta * u);
         if (r0 <= 0 && rp <= 0) return;  // no static wall within reach, now or r/2 on
