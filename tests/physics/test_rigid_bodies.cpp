@@ -283,7 +283,7 @@ TEST(RigidBodies, DISABLED_BuoyancySubmergedFractionIsDensityRatioWithAkinciSamp
 // Akinci samples (the default model): within 2 percentage points of rho_b / rho0 (the wall-pressure
 // issue's bound for the default boundary model; 3 before the "auto" default) under both the
 // pressure-zero and the colour-field surface, and the draft's growth with the density within
-// 3 % (under the top particles, which does not depend on where the surface is). Measured
+// 3 % (under the pressure-zero surface; see the test for why not the top particles). Measured
 // (2026-11-29, after the reaction torque moved to x_i, which changes Akinci runs only by
 // round-off): 0.3106 / 0.5187 / 0.8244 (pressure zero), 0.3144 / 0.5143 / 0.8257 (colour),
 // 0.2680 / 0.4699 / 0.7792 (top particles + d/2, slope 1.022). The earlier bound on the top
@@ -310,7 +310,16 @@ TEST(RigidBodies, BuoyancyWithAkinciSamplesWithinTwoPoints) {
     EXPECT_NEAR(f[i].colourFraction, ratios[i], 0.02) << "rho_b / rho0 = " << ratios[i] << ", colour-field surface";
     EXPECT_LT(f[i].maxSpeed, 0.05);
   }
-  EXPECT_NEAR((f[2].topFraction - f[0].topFraction) / (ratios[2] - ratios[0]), 1, 0.03);
+  // The draft's growth with the density, on the pressure-zero surface (Archimedes' own; a slope
+  // does not depend on a constant offset of the surface either). It was asserted on the top
+  // particles + d/2, which is no hydrostatic surface and which scatters with the top layer's
+  // packing: its level sat 5.5 / 7.1 / 6.5 mm under the colour field's for the three boxes in one
+  // run (2026-12-07, a round-off-level change of the neighbour search's d^2 on an AVX2-only CPU:
+  // pressure-zero slope 0.987, colour 0.988, top particles 0.970; 1.022 on 2026-11-29).
+  const double slope = (f[2].fraction - f[0].fraction) / (ratios[2] - ratios[0]);
+  const double topSlope = (f[2].topFraction - f[0].topFraction) / (ratios[2] - ratios[0]);
+  std::printf("[ buoyancy ] Akinci2012: d(fraction) / d(rho_b / rho0) = %.4f (pressure zero), %.4f (top particles)\n", slope, topSlope);
+  EXPECT_NEAR(slope, 1, 0.03);
 }
 
 // Archimedes without a free surface: a box held fully under water (animated, at rest, bottom
