@@ -21,6 +21,9 @@ class NonPressureForce {
   // explicit diffusion is unstable where its local coefficient exceeds what
   // maxStableTimeStep assumed (a free surface's sparse, light particles).
   virtual Real stepLimit() const { return std::numeric_limits<Real>::infinity(); }
+  // Whether addAccelerations reads ctx.paddedFluidNeighbors: the simulation builds them only
+  // when a plugin of the scene does (Simulation/PaddedNeighborLists.h).
+  virtual bool readsPaddedNeighbors() const { return false; }
 };
 
 }  // namespace consph

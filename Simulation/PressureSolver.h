@@ -37,6 +37,8 @@ class PressureSolver {
   // The largest time step an explicit solver is stable at, s (infinite for the implicit ones):
   // part of the default time-step cap, like NonPressureForce::maxStableTimeStep.
   virtual Real maxStableTimeStep(Real particleRadius, Real density0) const { return std::numeric_limits<Real>::infinity(); }
+  // Whether the solver reads ctx.paddedFluidNeighbors (as NonPressureForce::readsPaddedNeighbors).
+  virtual bool readsPaddedNeighbors() const { return false; }
   const PressureSolverStats& stats() const { return stats_; }
 
  protected:

@@ -353,7 +353,7 @@ void Simulation::removeParticlesOutside() {
 }
 
 StepContext Simulation::makeContext() {
-  return StepContext{*fluid_,          boundaryModel_->samples(), fluidNeighbors_, boundaryNeighbors_,
+  return StepContext{*fluid_,          boundaryModel_->samples(), fluidNeighbors_, paddedFluidNeighbors_, boundaryNeighbors_,
                      kernel_,          scene_.gravity,            scene_.particleRadius,
                      dt_,              dtPrevious_,               densityRelaxationTime_, time_,
                      stats_.steps,     log_,                      bodies_ && bodies_->hasFreeDynamic() ? bodies_.get() : nullptr,
@@ -481,6 +481,10 @@ void Simulation::findNeighbors() {
   fluidGrid_.build(f.positions.data(), f.size(), kernel_.supportRadius());
   // The fluid part of the densities comes with the lists (computeDensities).
   buildNeighborLists(fluidGrid_, f.positions.data(), f.size(), kernel_, true, PairGradients::Factors, fluidNeighbors_, f.masses.data());
+  // The padded copy only where a plugin of the scene reads it (2 % of DamBreak's step).
+  bool padded = pressureSolver_->readsPaddedNeighbors();
+  for (const auto& force : forces_) padded = padded || force->readsPaddedNeighbors();
+  if (padded) paddedFluidNeighbors_.build(fluidNeighbors_);
   boundaryModel_->findNeighbors(f, kernel_, boundaryNeighbors_);
 }
 

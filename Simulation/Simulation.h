@@ -166,6 +166,7 @@ class Simulation {
   std::vector<std::unique_ptr<NonPressureForce>> forces_;
   PointGrid fluidGrid_;
   NeighborLists fluidNeighbors_, boundaryNeighbors_;
+  PaddedNeighborLists paddedFluidNeighbors_;  // fluidNeighbors_ in blocks (StepContext::paddedFluidNeighbors)
   std::unique_ptr<FrameSeries> writer_, bodyWriter_;
   std::string bodyCsv_;  // every frame's body rows so far (rewritten atomically per frame)
   std::unique_ptr<MovingBodies> bodies_;

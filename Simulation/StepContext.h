@@ -7,6 +7,7 @@
 #include "Simulation/FluidModel.h"
 #include "Simulation/Kernel.h"
 #include "Simulation/NeighborSearch.h"
+#include "Simulation/PaddedNeighborLists.h"
 #include "Simulation/ParticleView.h"
 #include "Utilities/Log.h"
 
@@ -24,6 +25,9 @@ struct StepContext {
   FluidView fluid;                         // spans over the fluid's fields (Simulation/ParticleView.h)
   BoundaryView boundary;                   // and over the boundary samples'
   const NeighborLists& fluidNeighbors;     // fluid i -> fluid j (j != i)
+  // The same pairs in rows padded to whole blocks, for the sums that take a block of pairs at a
+  // time (Simulation/PaddedNeighborLists.h).
+  const PaddedNeighborLists& paddedFluidNeighbors;
   const NeighborLists& boundaryNeighbors;  // fluid i -> boundary sample k
   const CubicSplineKernel& kernel;
   Vector3r gravity;

@@ -22,6 +22,7 @@ struct ParticleSet {
   FluidModel fluid{"fluid", 1000};
   BoundarySamples boundary;
   NeighborLists fluidNeighbors, boundaryNeighbors;
+  PaddedNeighborLists paddedFluidNeighbors;
   CubicSplineKernel kernel;
   PointGrid grid;
   Real spacing, particleRadius;
@@ -56,6 +57,7 @@ struct ParticleSet {
   void update() {
     grid.build(fluid.positions.data(), fluid.size(), kernel.supportRadius());
     buildNeighborLists(grid, fluid.positions.data(), fluid.size(), kernel, true, PairGradients::Factors, fluidNeighbors);
+    paddedFluidNeighbors.build(fluidNeighbors);
     boundaryNeighbors.offsets.assign(fluid.size() + 1, 0);
     boundaryNeighbors.indices.clear();
     boundaryNeighbors.gradW.clear();
@@ -70,7 +72,7 @@ struct ParticleSet {
   }
 
   StepContext context(Real dt, std::size_t step = 0) {
-    return StepContext{fluid, boundary, fluidNeighbors, boundaryNeighbors, kernel,
+    return StepContext{fluid, boundary, fluidNeighbors, paddedFluidNeighbors, boundaryNeighbors, kernel,
                        Vector3r::Zero(), particleRadius, dt, dt, /*densityRelaxationTime*/ Real(0), 0, step, log};
   }
 

@@ -16,6 +16,7 @@ struct StandaloneStep {
     PointGrid fluidGrid;
     fluidGrid.build(fluid.positions.data(), fluid.size(), kernel.supportRadius());
     buildNeighborLists(fluidGrid, fluid.positions.data(), fluid.size(), kernel, true, PairGradients::Factors, fluidNeighbors);
+    paddedFluidNeighbors.build(fluidNeighbors);
     PointGrid boundaryGrid;
     boundaryGrid.build(boundary.positions.data(), boundary.size(), kernel.supportRadius());
     buildNeighborLists(boundaryGrid, fluid.positions.data(), fluid.size(), kernel, false, PairGradients::Vectors, boundaryNeighbors);
@@ -30,7 +31,7 @@ struct StandaloneStep {
   }
 
   StepContext context(Real dt) {
-    return StepContext{fluid, boundary, fluidNeighbors, boundaryNeighbors, kernel, Vector3r(0, Real(-9.81), 0),
+    return StepContext{fluid, boundary, fluidNeighbors, paddedFluidNeighbors, boundaryNeighbors, kernel, Vector3r(0, Real(-9.81), 0),
                        radius, dt, dt, /*densityRelaxationTime: within the step*/ Real(0), Real(0), 0, log};
   }
 
@@ -39,6 +40,7 @@ struct StandaloneStep {
   FluidModel fluid;
   BoundarySamples boundary;
   NeighborLists fluidNeighbors, boundaryNeighbors;
+  PaddedNeighborLists paddedFluidNeighbors;
   LogSink log = [](LogLevel, const std::string&) {};
 };
 
