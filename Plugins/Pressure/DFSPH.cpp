@@ -1,5 +1,6 @@
 #include "Plugins/Pressure/DFSPH.h"
 
+#include "Plugins/Pressure/PackedPairSums.h"
 #include "Plugins/Pressure/SphPressureTerms.h"
 #include "Simulation/ParamBinding.h"
 #include "Simulation/PluginRegistry.h"
@@ -75,12 +76,27 @@ void DFSPH::computeDiagonal(StepContext& ctx) {
   // mirroring and extrapolation add sum_k m_i m~_k |grad W_ik|^2                          (Eq. 15)
   treatment_.beginStep(ctx);
   const std::size_t n = ctx.fluid.size();
+  // The slots of this step's packed pair sums (PackedPairSums.h): positions stay fixed through
+  // both solves, and so does the fluid's gradient sum G_i of the pressure term.
+  if constexpr (kPackedPairSums) {
+    ctx.paddedFluidNeighbors.expectBuiltFor(n, "DFSPH");
+    packed_.packPositions(ctx.fluid);
+    massGradientSums_.resize(n);
+  }
   invDiagonal_.resize(n);
   increment_.resize(n);
   parallelFor(ctx.fluidNeighbors.work, n, [&](std::size_t i) {
-    Vector3r sumGrad = treatment_.boundaryGradient(i);
     Real sumSquares = treatment_.diagonalTerm(i);
-    fluidDiagonalSums(ctx, i, sumGrad, sumSquares);
+    Vector3r sumGrad;
+    if constexpr (kPackedPairSums) {
+      Vector3r fluidGradient = Vector3r::Zero();
+      fluidDiagonalSums(ctx, i, fluidGradient, sumSquares);
+      massGradientSums_[i] = fluidGradient;
+      sumGrad = treatment_.boundaryGradient(i) + fluidGradient;
+    } else {
+      sumGrad = treatment_.boundaryGradient(i);
+      fluidDiagonalSums(ctx, i, sumGrad, sumSquares);
+    }
     const Real d = sumGrad.squaredNorm() + sumSquares;
     invDiagonal_[i] = d > Real(1e-9) ? Real(1) / d : Real(0);
   });
@@ -104,6 +120,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence, Real* largest) {
   const std::size_t n = f.size();
   const Real maxDrop = maxDensityDrop(ctx, rho0, settings_.overlapReliefSpeed);
   const Real relaxationTime = densityRelaxationTime(settings_.densityRelaxation, ctx);
+  if constexpr (kPackedPairSums) packed_.packVelocities(f);
   // The sum per range of the lists' balanced schedule, and the largest.
   struct Errors {
     double sum = 0;
@@ -112,7 +129,9 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence, Real* largest) {
   const Errors errors = parallelReduce(
       fn.work, n, Errors{}, [](Errors& into, const Errors& from) { into.sum += from.sum, into.largest = std::max(into.largest, from.largest); },
       [&](std::size_t i, Errors& acc) {
-        const Real drho = densityRate(ctx, i);
+        // Eqs. (6), (14)
+        const Real drho = kPackedPairSums ? boundaryDensityRate(ctx, i, packedFluidDensityRate(ctx.paddedFluidNeighbors, i, packed_))
+                                          : densityRate(ctx, i);
         Real s;
         if (divergence) {
           // Only compression counts, and not at the free surface.
@@ -141,9 +160,11 @@ void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k,
   if (treatment_.extrapolates())
     treatment_.extrapolate([&](Index j) { return ((accumulated ? (*accumulated)[j] : Real(0)) + k[j]) * f.densities[j] * f.densities[j]; });
   const std::vector<Real>& pkChange = treatment_.boundaryPressureChanges();
+  if constexpr (kPackedPairSums) packed_.packPressures(f, k.data());
   parallelFor(ctx.fluidNeighbors.work, f.size(), [&](std::size_t i) {
     const Real ki = k[i];
-    Vector3r dv = fluidPressureAcceleration(ctx, i, k);  // Eq. (9) / (24)
+    Vector3r dv = kPackedPairSums ? packedFluidPressureAcceleration(ctx.paddedFluidNeighbors, i, packed_, ki, massGradientSums_[i])
+                                  : fluidPressureAcceleration(ctx, i, k);  // Eq. (9) / (24)
     // Boundary: Eq. (33) (consistent) or Eq. (16) (mirroring, extrapolation).
     dv += treatment_.acceleration(ctx, i, ki, ki * f.densities[i] * f.densities[i], pkChange);
     f.velocities[i] += dt * dv;

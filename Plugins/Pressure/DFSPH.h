@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "Plugins/Pressure/BoundaryPressureTreatment.h"
+#include "Plugins/Pressure/PackedPairSums.h"
 #include "Plugins/Pressure/SphPressureTerms.h"
 #include "Simulation/Params.h"
 #include "Simulation/PressureSolver.h"
@@ -25,6 +26,7 @@ class DFSPH final : public PressureSolver {
   void solve(StepContext& ctx) override;
   void boundaryImpulses(const StepContext& ctx, std::vector<Vector3r>& impulsePerPair) const override;
   static std::vector<ParamSpec> parameters();
+  bool readsPaddedNeighbors() const override { return kPackedPairSums; }  // PackedPairSums.h
 
  private:
   struct Settings {
@@ -76,7 +78,12 @@ class DFSPH final : public PressureSolver {
   std::vector<Real>& divergenceBeta_;  // accumulated beta of the divergence solve, sorted field
   std::vector<Real> invDiagonal_;      // 1 / D_i (Eq. 32 without the -dt / rho_i^2 factor)
   std::vector<Real> increment_;        // beta increment of the current iteration
-  std::vector<unsigned char> closingGap_;  // maxErrorParticle: 1 where two objects close in from opposite sides
+  std::vector<unsigned char> closingGap_;
+  // The slots the fluid sums of every iteration read (PackedPairSums.h), packed by computeDiagonal
+  // (positions), computeSources (velocities) and applyPressureIncrement (m_j beta_j); and
+  // G_i = sum_j m_j grad W_ij of the pressure term, from computeDiagonal.
+  PackedParticles packed_;
+  std::vector<Vector3r> massGradientSums_;  // maxErrorParticle: 1 where two objects close in from opposite sides
   BoundaryPressureTreatment treatment_;
   Real divergenceDt_ = 0;                 // the time step the divergence solve of this step used
   std::vector<Real> divergenceBoundaryP_; // extrapolation: p_k of the divergence solve (its total)

@@ -11,21 +11,27 @@
 namespace consph {
 
 // D rho_i / Dt = sum_j m_j (v_i - v_j) . grad W_ij + sum_k m~_k (v_i - v_k) . grad W_ik
-// (Eqs. 6 and 14), from the current velocities (v* in the density solve).
-inline Real densityRate(const StepContext& ctx, std::size_t i) {
+// (Eqs. 6 and 14), from the current velocities (v* in the density solve): the fluid sum, then
+// the boundary sum added on to `rate` (PackedPairSums.h has a second form of the fluid sum).
+inline Real fluidDensityRate(const StepContext& ctx, std::size_t i) {
   const FluidView& f = ctx.fluid;
-  const BoundaryView& b = ctx.boundary;
   const NeighborLists& fn = ctx.fluidNeighbors;
-  const NeighborLists& bn = ctx.boundaryNeighbors;
   const Vector3r vi = f.velocities[i], xi = f.positions[i];
   Real rate = 0;
   for (Index e = fn.begin(i); e < fn.end(i); ++e) {
     const Index j = fn.indices[e];
     rate += f.masses[j] * (vi - f.velocities[j]).dot(fn.gradient(e, xi - f.positions[j]));
   }
+  return rate;
+}
+inline Real boundaryDensityRate(const StepContext& ctx, std::size_t i, Real rate) {
+  const BoundaryView& b = ctx.boundary;
+  const NeighborLists& bn = ctx.boundaryNeighbors;
+  const Vector3r vi = ctx.fluid.velocities[i];
   for (Index e = bn.begin(i); e < bn.end(i); ++e) rate += b.masses[bn.indices[e]] * (vi - b.velocities[bn.indices[e]]).dot(bn.gradW[e]);
   return rate;
 }
+inline Real densityRate(const StepContext& ctx, std::size_t i) { return boundaryDensityRate(ctx, i, fluidDensityRate(ctx, i)); }
 
 // How fast the implicit solvers remove a density excess a step starts with (driftTarget).
 enum class DensityRelaxation { Auto, Step, Resolution };

@@ -68,12 +68,25 @@ void Viscosity_Standard::addAccelerations(StepContext& ctx) {
   // stress suite's fine columns and filled tank. Cost: the forces' phase 0.75 -> 1.1 s over 139
   // steps of DamBreak at r = 0.0125, 2 threads: 2.4 ms of a 77-80 ms step (an eigen-solve per
   // particle in a pass of its own: 11 ms).
+  if constexpr (kPackedPairSums) {
+    ctx.paddedFluidNeighbors.expectBuiltFor(f.size(), "Viscosity_Standard");
+    // The slots of packedFluidSumWithRate: (x, y, z, m / rho) and (v, 0).
+    packSlots(positionsVolumes_, f.size(), [&](std::size_t j, Real* s) {
+      s[0] = f.positions[j][0], s[1] = f.positions[j][1], s[2] = f.positions[j][2], s[3] = f.masses[j] / f.densities[j];
+    });
+    packSlots(velocities_, f.size(), [&](std::size_t j, Real* s) {
+      s[0] = f.velocities[j][0], s[1] = f.velocities[j][1], s[2] = f.velocities[j][2], s[3] = 0;
+    });
+  } else {
+    fluidVolumes(f, positionsVolumes_);  // here only V_j, one per particle
+  }
   const Real largest = parallelReduce(ctx.fluidNeighbors.work, f.size(), Real(0), [](Real& into, Real from) { into = std::max(into, from); },
                                       [&](std::size_t i, Real& largestSoFar) {
     const Real rhoi = f.densities[i];
     Real rate[6] = {0, 0, 0, 0, 0, 0};  // 2 F_i + B_i without the factor 10 / rho_i: xx yy zz xy xz yz
     // ViscosityLaplacian.h: fluid and boundary terms.
-    Vector3r a = (kLaplacianFactor * viscosity_ * rho0 / rhoi) * fluidSumWithRate(f, ctx.fluidNeighbors, i, eps, rate);
+    Vector3r a = (kLaplacianFactor * viscosity_ * rho0 / rhoi) * (kPackedPairSums ? packedFluidSumWithRate(ctx.paddedFluidNeighbors, i, positionsVolumes_.data(), velocities_.data(), eps, rate)
+                                                            : fluidSumWithRate(f, ctx.fluidNeighbors, i, positionsVolumes_.data(), eps, rate));
     for (Real& entry : rate) entry *= Real(2) * viscosity_ * rho0;
     if (boundary) {
       const Vector3r xi = f.positions[i];

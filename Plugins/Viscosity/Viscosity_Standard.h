@@ -11,6 +11,7 @@
 // which is lower at a free surface (docs/forces.md, "Stability"). Use Weiler2018 for very viscous fluids.
 #pragma once
 #include <limits>
+#include <vector>
 
 #include "Simulation/NonPressureForce.h"
 #include "Simulation/Params.h"
@@ -26,6 +27,7 @@ class Viscosity_Standard final : public NonPressureForce {
   void addAccelerations(StepContext& ctx) override;
   Real maxStableTimeStep(const CubicSplineKernel& kernel) const override;
   Real stepLimit() const override { return stepLimit_; }
+  bool readsPaddedNeighbors() const override { return kPackedPairSums; }  // packedFluidSumWithRate
   static std::vector<ParamSpec> parameters();
 
  private:
@@ -33,6 +35,9 @@ class Viscosity_Standard final : public NonPressureForce {
   static const BoundParams<Viscosity_Standard>& bound();
   Real viscosity_, boundaryViscosity_;
   Real stepLimit_ = std::numeric_limits<Real>::infinity();  // s, of the last addAccelerations
+  // This step's slots (x, y, z, m / rho) and (v, 0) of packedFluidSumWithRate; without
+  // kPackedPairSums, positionsVolumes_ holds m / rho alone (ViscosityLaplacian.h).
+  std::vector<Real> positionsVolumes_, velocities_;
 };
 
 }  // namespace consph

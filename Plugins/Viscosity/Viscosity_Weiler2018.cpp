@@ -53,6 +53,17 @@ void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
   rhs_.resize(f.size());
   solution_.resize(f.size());
   inverseDiagonal_.resize(f.size());
+  // Slots (x, y, z, V = m / rho) for packedFluidSum (V alone for fluidSum without
+  // kPackedPairSums): the densities stay fixed through the solve.
+  if constexpr (kPackedPairSums) {
+    ctx.paddedFluidNeighbors.expectBuiltFor(n, "Viscosity_Weiler2018");
+    packSlots(positionsVolumes_, n, [&](std::size_t j, Real* s) {
+      s[0] = f.positions[j][0], s[1] = f.positions[j][1], s[2] = f.positions[j][2], s[3] = f.masses[j] / f.densities[j];
+    });
+  } else {
+    fluidVolumes(f, positionsVolumes_);
+  }
+  const std::size_t volumeStride = kPackedPairSums ? 4 : 1;
 
   // Right-hand side m_i (v_i - dt nu_b / rho_i sum_k m~_k K_ik v_k), warm start, and the 3x3
   // diagonal blocks m_i (I - dt L_ii) of the preconditioner (K_ij u = (u . x_ij) grad W_ij / (..)).
@@ -64,7 +75,8 @@ void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
     for (Index e = fn.begin(i); e < fn.end(i); ++e) {
       const Index j = fn.indices[e];
       const Vector3r xij = xi - f.positions[j];
-      d += (f.masses[j] / f.densities[j] / (xij.squaredNorm() + eps)) * (fn.gradient(e, xij) * xij.transpose());
+      const Real volume = positionsVolumes_[volumeStride * std::size_t(j) + (volumeStride - 1)];
+      d += (volume / (xij.squaredNorm() + eps)) * (fn.gradient(e, xij) * xij.transpose());
     }
     d *= cFluid / rhoi;
     if (boundary) {
@@ -84,9 +96,12 @@ void Viscosity_Weiler2018::addAccelerations(StepContext& ctx) {
 
   // A x = m_i (x_i - dt nu (rho0 / rho_i) sum_j (m_j / rho_j) K_ij x_ij - dt nu_b / rho_i sum_k m~_k K_ik x_i).
   auto applyA = [&](std::span<const Vector3r> x, std::vector<Vector3r>& out) {
-    parallelFor(n, [&](std::size_t i) {
+    if constexpr (kPackedPairSums)
+      packSlots(fieldSlots_, n, [&](std::size_t j, Real* s) { s[0] = x[j][0], s[1] = x[j][1], s[2] = x[j][2], s[3] = 0; });
+    parallelFor(fn.work, n, [&](std::size_t i) {
       const Real rhoi = f.densities[i];
-      Vector3r lx = (cFluid / rhoi) * fluidSum(f, fn, i, x.data(), eps);
+      Vector3r lx = (cFluid / rhoi) * (kPackedPairSums ? packedFluidSum(ctx.paddedFluidNeighbors, i, positionsVolumes_.data(), fieldSlots_.data(), eps)
+                                                       : fluidSum(f, fn, i, x.data(), positionsVolumes_.data(), eps));
       if (boundary) lx += (cBoundary / rhoi) * boundarySum(b, bn, i, f.positions[i], x[i], eps, false);
       out[i] = f.masses[i] * (x[i] - lx);
     });

@@ -29,6 +29,7 @@ class Viscosity_Weiler2018 final : public NonPressureForce {
  public:
   Viscosity_Weiler2018(const Params& params, FluidModel& fluid);
   void addAccelerations(StepContext& ctx) override;
+  bool readsPaddedNeighbors() const override { return kPackedPairSums; }  // packedFluidSum
   static std::vector<ParamSpec> parameters();
   const ConjugateGradientResult& lastSolve() const { return last_; }
 
@@ -40,6 +41,7 @@ class Viscosity_Weiler2018 final : public NonPressureForce {
   std::vector<Vector3r>& velocityChange_;  // v' - v of the last solve (warm start), sorted field
   std::vector<Vector3r> rhs_, solution_;
   std::vector<Matrix3r> inverseDiagonal_;  // block-Jacobi preconditioner
+  std::vector<Real> positionsVolumes_, fieldSlots_;  // slots of packedFluidSum (ViscosityLaplacian.h)
   ConjugateGradientWorkspace workspace_;
   ConjugateGradientResult last_;
   std::size_t capHits_ = 0;
