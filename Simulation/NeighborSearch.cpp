@@ -18,6 +18,13 @@
 namespace consph {
 
 namespace {
+// The bit of the candidate at slot `selfSlot` among `lanes` candidates from slot k, 0 when it is
+// not among them (selfSlot - k wraps to a huge value below k; no self: selfSlot = SIZE_MAX).
+inline unsigned selfBit(std::size_t selfSlot, std::size_t k, std::size_t lanes) {
+  const std::size_t o = selfSlot - k;
+  return o < lanes ? 1u << o : 0u;
+}
+
 #if defined(CONSPH_NEIGHBOR_AVX512)
 // Which of the 16 candidates at c (the `live` ones) lie within sqrt(h2) of p, |x_i - x_j|^2 as
 // dx^2, then + dy^2, then + dz^2, fused (the AVX2 path's order; the scalar fallback's is the
@@ -48,7 +55,8 @@ __mmask16 withinRadius(__mmask16 live, const Real* cx, const Real* cy, const Rea
 #if defined(CONSPH_NEIGHBOR_AVX2)
 // AVX2 has no compress-store: row `mask` of this table holds the lanes of the set bits of an
 // 8-bit mask, packed to the front in ascending order (the rest 0), so that one permute-free
-// store of position + row writes the accepted candidates of 8 in order.
+// store of position + row writes the accepted candidates of 8 in order, and one permute of the
+// eight squared distances by the same row packs theirs (float).
 struct LeftPackTable {
   alignas(32) std::uint32_t lanes[256][8];
   constexpr LeftPackTable() : lanes{} {
@@ -61,12 +69,16 @@ struct LeftPackTable {
 };
 constexpr LeftPackTable kLeftPack;
 
-// The 8-bit mask of the candidates at c within sqrt(h2) of p, of the first `live` (1-8) of them:
-// a range's last few are read with masked loads, so that every candidate of a list goes through
-// this one formula for |x_i - x_j|^2 (a scalar tail contracted by the compiler may fuse in
-// another order and, within an ulp of h, decide a pair differently: j listing i but not i j).
+// Of the first `live` (1-8) candidates at c, the mask of those within sqrt(h2) of p and not in
+// `excluded` (the query itself), |x_i - x_j|^2 as dx^2, then + dy^2, then + dz^2, fused, and
+// (float) their squared distances written to d2[0 ..), packed in order (8 values written; those
+// past the accepted ones are junk that the next call overwrites or nobody reads). A range's last few are read with masked loads, so that every
+// candidate of a list goes through this one formula (a scalar tail contracted by the compiler may
+// fuse in another order and, within an ulp of h, decide a pair differently: j listing i but not i j).
 #if CONSPH_USE_DOUBLE
-unsigned withinRadius8(const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2, std::size_t live) {
+// Double builds keep the distances of Eigen's norm (kPacksSquaredDistances below): the mask only.
+unsigned acceptEight(const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2, std::size_t live, unsigned excluded,
+                     Real*) {
   const auto half = [&](std::size_t o) {  // 4 doubles at a time
     using Lane = long long;
     const __m256i on = _mm256_cmpgt_epi64(_mm256_set1_epi64x(Lane(live)), _mm256_setr_epi64x(Lane(o), Lane(o + 1), Lane(o + 2), Lane(o + 3)));
@@ -76,72 +88,81 @@ unsigned withinRadius8(const Real* cx, const Real* cy, const Real* cz, const Vec
     const __m256d d2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
     return unsigned(_mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_set1_pd(h2), _CMP_LE_OQ)));
   };
-  return (half(0) | half(4) << 4) & ((1u << live) - 1);
+  return (half(0) | half(4) << 4) & ((1u << live) - 1) & ~excluded;
 }
 #else
-unsigned withinRadius8(const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2, std::size_t live) {
+unsigned acceptEight(const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2, std::size_t live, unsigned excluded,
+                     Real* d2) {
   const __m256i on = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(live)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
   const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(p[0]), _mm256_maskload_ps(cx, on));
   const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(p[1]), _mm256_maskload_ps(cy, on));
   const __m256 dz = _mm256_sub_ps(_mm256_set1_ps(p[2]), _mm256_maskload_ps(cz, on));
-  const __m256 d2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
-  return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d2, _mm256_set1_ps(h2), _CMP_LE_OQ))) & ((1u << live) - 1);
-}
-#endif
-// The mask of the first `live` ids that are `self`.
-unsigned sameIds8(const Index* ids, Index self, std::size_t live) {
-  const __m256i on = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(live)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-  const __m256i same = _mm256_cmpeq_epi32(_mm256_maskload_epi32(reinterpret_cast<const int*>(ids), on), _mm256_set1_epi32(int(self)));
-  return unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(same))) & ((1u << live) - 1);
+  const __m256 d = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
+  const unsigned in = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d, _mm256_set1_ps(h2), _CMP_LE_OQ))) & ((1u << live) - 1) & ~excluded;
+  const __m256i lanes = _mm256_load_si256(reinterpret_cast<const __m256i*>(kLeftPack.lanes[in]));
+  _mm256_storeu_ps(d2, _mm256_permutevar8x32_ps(d, lanes));
+  return in;
 }
 #endif
 
-// Writes the positions k in [first, last), in ascending order, of the candidates (SoA cx, cy, cz,
-// ids) within sqrt(h2) of p whose id is not `self`, and returns how many. About one candidate in six
-// passes, in no pattern a branch predictor can learn, so there is no branch per candidate: with
-// AVX-512 the test and the compaction (vpcompressd) take 16 candidates at a time; with AVX2 (no
-// compress-store) 8 at a time through a table of packed lanes (kLeftPack); otherwise a
-// vectorised distance loop and a branch-free scalar compaction. Within one build every candidate
-// takes one formula, so lists are symmetric (j lists i iff i lists j); the paths agree but for
-// pairs within an ulp of h (perf, bench/RESULTS.md "Where the volume-map dam break's step goes";
-// on an AVX2-only EPYC the scalar compaction was a third of the list build: "AVX2 compaction,
-// kernel in batches").
-std::size_t acceptCandidates(const Real* cx, const Real* cy, const Real* cz, const Index* ids, std::size_t first,
-                             std::size_t last, const Vector3r& p, Real h2, Index self, Index* accepted) {
+// The pairs' distances as the square roots of the test's squared distances, packed with the
+// positions, instead of a second pass gathering x_j for Eigen's norm (which the compiler
+// contracts in another order: 1 ulp apart for about one pair in six). Float builds only: double
+// builds keep the norm's bits, as they keep the scalar pair sums (Utilities/SimdLanes.h,
+// kPackedPairSums; bench/RESULTS.md, "List build by slots").
+constexpr bool kPacksSquaredDistances = sizeof(Real) == 4;
+// v[a] = sqrt(v[a]) for a < m, 8 at a time (v has room up to the next block of 8).
+void squareRootsInPlace(Real* v, std::size_t m) {
+#if !CONSPH_USE_DOUBLE
+  for (std::size_t a = 0; a < m; a += 8) _mm256_storeu_ps(v + a, _mm256_sqrt_ps(_mm256_loadu_ps(v + a)));
+#endif
+}
+#else
+constexpr bool kPacksSquaredDistances = sizeof(Real) == 4;
+void squareRootsInPlace(Real*, std::size_t) {}
+#endif
+// What acceptCandidates may write past the candidates it is given: a block of lanes.
+constexpr std::size_t kAcceptSlack = 8;
+
+// Writes the positions k in [first, last), in ascending order, of the candidates (SoA cx, cy, cz)
+// within sqrt(h2) of p but for the one at `selfSlot` (the query itself), and returns how many;
+// on the AVX2 path (kPacksSquaredDistances) their |x_i - x_j|^2 go to squaredDistances in the
+// same order. Both outputs have room for kAcceptSlack entries past the candidates. About one
+// candidate in six passes, in no pattern a branch predictor can learn, so there is no branch per
+// candidate: with AVX-512 the test and the compaction (vpcompressd) take 16 candidates at a
+// time; with AVX2 (no compress-store) 8 at a time through a table of packed lanes (kLeftPack);
+// otherwise a vectorised distance loop and a branch-free scalar compaction. Within one build
+// every candidate takes one formula, so lists are symmetric (j lists i iff i lists j); the paths
+// agree but for pairs within an ulp of h (perf, bench/RESULTS.md "Where the volume-map dam
+// break's step goes"; on an AVX2-only EPYC the scalar compaction was a third of the list build:
+// "AVX2 compaction, kernel in batches"). The query is left out by its slot, not by comparing
+// every candidate's index (a load and a compare per block: "List build by slots").
+std::size_t acceptCandidates(const Real* cx, const Real* cy, const Real* cz, std::size_t first, std::size_t last, const Vector3r& p,
+                             Real h2, std::size_t selfSlot, Index* accepted, [[maybe_unused]] Real* squaredDistances) {
   std::size_t k = first, m = 0;
 #if defined(CONSPH_NEIGHBOR_AVX512)
   constexpr std::size_t kLanes = 16;
-  const __m512i selfId = _mm512_set1_epi32(int(self)), step = _mm512_set1_epi32(int(kLanes));
+  const __m512i step = _mm512_set1_epi32(int(kLanes));
   __m512i position =
       _mm512_add_epi32(_mm512_set1_epi32(int(first)), _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
   for (; k < last; k += kLanes) {
     const __mmask16 live = last - k >= kLanes ? __mmask16(0xffff) : __mmask16((1u << (last - k)) - 1);
-    const __mmask16 in = withinRadius(live, cx + k, cy + k, cz + k, p, h2) &
-                         _mm512_mask_cmpneq_epi32_mask(live, _mm512_maskz_loadu_epi32(live, ids + k), selfId);
+    const __mmask16 in = withinRadius(live, cx + k, cy + k, cz + k, p, h2) & __mmask16(~selfBit(selfSlot, k, kLanes));
     _mm512_mask_compressstoreu_epi32(accepted + m, in, position);
     m += std::size_t(__builtin_popcount(unsigned(in)));
     position = _mm512_add_epi32(position, step);
   }
 #elif defined(CONSPH_NEIGHBOR_AVX2)
-  // 8 candidates at a time: the mask of those within reach and not `self` picks a row of
-  // kLeftPack, and one 8-lane store writes their positions to accepted[m..m+7]. The lanes past
-  // the accepted ones are junk that the next store overwrites or nobody reads, and they stay
-  // within the candidates' room: m counts at most the candidates before these 8. The last few
-  // (under 8) take the same test with masked loads and a scalar compaction, whose stores stay
-  // within the range.
-  for (; k + 8 <= last; k += 8) {
-    const unsigned in = withinRadius8(cx + k, cy + k, cz + k, p, h2, 8) & ~sameIds8(ids + k, self, 8);
+  // 8 candidates at a time (the last few with masked loads): the mask of those within reach
+  // and not the query picks a row of kLeftPack, and one 8-lane store writes their positions to
+  // accepted[m..m+7], acceptEight their squared distances. The lanes past the accepted ones are
+  // junk that the next store overwrites or nobody reads, within the outputs' slack.
+  for (; k < last; k += 8) {
+    const std::size_t live = std::min<std::size_t>(8, last - k);
+    const unsigned in = acceptEight(cx + k, cy + k, cz + k, p, h2, live, selfBit(selfSlot, k, 8), squaredDistances + m);
     const __m256i lanes = _mm256_load_si256(reinterpret_cast<const __m256i*>(kLeftPack.lanes[in]));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(accepted + m), _mm256_add_epi32(_mm256_set1_epi32(int(k)), lanes));
     m += std::size_t(__builtin_popcount(in));
-  }
-  if (k < last) {
-    const std::size_t live = last - k;
-    const unsigned in = withinRadius8(cx + k, cy + k, cz + k, p, h2, live) & ~sameIds8(ids + k, self, live);
-    for (std::size_t j = 0; j < live; ++j) {
-      accepted[m] = Index(k + j);
-      m += (in >> j) & 1u;
-    }
   }
 #else
   // Blocks of candidates: the distances vectorise, the compaction is scalar.
@@ -156,7 +177,7 @@ std::size_t acceptCandidates(const Real* cx, const Real* cy, const Real* cz, con
     }
     for (std::size_t j = 0; j < nb; ++j) {
       accepted[m] = Index(k + j);
-      m += std::size_t((d2[j] <= h2) & (ids[k + j] != self));
+      m += std::size_t((d2[j] <= h2) & (k + j != selfSlot));
     }
   }
 #endif
@@ -167,6 +188,7 @@ std::size_t acceptCandidates(const Real* cx, const Real* cy, const Real* cz, con
 void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
   keys_.resize(n);
   sortedIndex_.resize(n);
+  slotOf_.resize(n);
   sortedPoints_.resize(n);
   for (auto& c : sortedCoords_) c.resize(n);
   if (n == 0) {
@@ -175,15 +197,24 @@ void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
     return;
   }
   // A NaN or inf point (or points spanning more than a double) would make the cell-growing
-  // loop below run forever: refuse. (min/max skip a NaN, so each point is checked.)
-  Vector3r lo = points[0], hi = points[0];
-  bool finite = true;
-  for (std::size_t i = 0; i < n; ++i) {
-    finite &= points[i].allFinite();
-    lo = lo.cwiseMin(points[i]);
-    hi = hi.cwiseMax(points[i]);
-  }
-  if (!finite || !(hi - lo).allFinite())
+  // loop below run forever: refuse. (min/max skip a NaN, so each point is checked.) In parallel:
+  // serial, this pass was 1.7 % of a dam break's step on 2 threads.
+  struct Box {
+    Vector3r lo, hi;
+    bool finite;
+  };
+  const Box box = parallelReduce(
+      n, Box{points[0], points[0], true},
+      [](Box& into, const Box& from) {
+        into.lo = into.lo.cwiseMin(from.lo), into.hi = into.hi.cwiseMax(from.hi), into.finite = into.finite && from.finite;
+      },
+      [&](std::size_t i, Box& b) {
+        b.finite = b.finite && points[i].allFinite();
+        b.lo = b.lo.cwiseMin(points[i]);
+        b.hi = b.hi.cwiseMax(points[i]);
+      });
+  const Vector3r lo = box.lo, hi = box.hi;
+  if (!box.finite || !(hi - lo).allFinite())
     throw SimulationError("neighbour search: the points span a non-finite box (a NaN or inf position)");
   // Points flung far apart would need a huge box of small cells: grow the cells instead (still
   // >= cellSize, so the 27-cell query stays complete).
@@ -214,6 +245,7 @@ void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
   for (std::size_t i = 0; i < n; ++i) {
     const Index s = cursor[keys_[i]]++;
     sortedIndex_[s] = Index(i);
+    slotOf_[i] = s;
     sortedPoints_[s] = points[i];
     for (int a = 0; a < 3; ++a) sortedCoords_[a][s] = points[i][a];
   }
@@ -245,7 +277,7 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
   // A chunk a smaller team leaves out must not copy an earlier call's lists.
   for (std::size_t t = 0; t < chunks; ++t) out.scratchIndices[t].clear(), out.scratchGradW[t].clear(), out.scratchGradFactors[t].clear();
   const Real h2 = h * h;
-  constexpr Index kNoSelf = ~Index(0);  // no candidate has this index
+  constexpr std::size_t kNoSelf = ~std::size_t(0);  // no candidate has this slot
   // A query's own work (its cell's ranges, its sums' set-up and stores) in pairs' worth, for
   // the balance of `out.work`; the loops over a dam break's lists hold ~40 pairs per query.
   constexpr std::size_t kCostPerQuery = 4;
@@ -290,12 +322,16 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
           ranges[rangeCount++] = {begin, end};
           candidates += end - begin;
         });
-        if (accepted.size() < candidates) accepted.resize(candidates);
+        if (accepted.size() < candidates + kAcceptSlack) {
+          accepted.resize(candidates + kAcceptSlack);
+          distance.resize(candidates + kAcceptSlack), value.resize(candidates), gradientFactor.resize(candidates);
+        }
       }
-      const Index self = excludeSelf ? Index(i) : kNoSelf;
+      // The query itself, in a search of a set against itself: the grid was built over the queries.
+      const std::size_t selfSlot = excludeSelf ? std::size_t(grid.slotOf(i)) : kNoSelf;
       std::size_t m = 0;
       for (std::size_t r = 0; r < rangeCount; ++r)
-        m += acceptCandidates(sx, sy, sz, si, ranges[r].first, ranges[r].second, xi, h2, self, accepted.data() + m);
+        m += acceptCandidates(sx, sy, sz, ranges[r].first, ranges[r].second, xi, h2, selfSlot, accepted.data() + m, distance.data() + m);
       const std::size_t before = idx.size();
       idx.resize(before + m);
       if (factors)
@@ -304,12 +340,17 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
         grad.resize(before + m);
       const Real px = xi[0], py = xi[1], pz = xi[2];
       // The pairs' distances and indices, then the kernel for all of them at once (vectorised,
-      // Kernel::evaluate), then the gradients and the weighted sum.
-      if (distance.size() < m) distance.resize(m), value.resize(m), gradientFactor.resize(m);
-      for (std::size_t a = 0; a < m; ++a) {
-        const std::size_t s = accepted[a];
-        distance[a] = Vector3r(px - sx[s], py - sy[s], pz - sz[s]).norm();
-        idx[before + a] = si[s];
+      // Kernel::evaluate), then the gradients and the weighted sum. The distances are
+      // Vector3r(x_i - x_j).norm()'s bits either way: the AVX2 test kept the squared ones.
+      if constexpr (kPacksSquaredDistances) {
+        squareRootsInPlace(distance.data(), m);
+        for (std::size_t a = 0; a < m; ++a) idx[before + a] = si[accepted[a]];
+      } else {
+        for (std::size_t a = 0; a < m; ++a) {
+          const std::size_t s = accepted[a];
+          distance[a] = Vector3r(px - sx[s], py - sy[s], pz - sz[s]).norm();
+          idx[before + a] = si[s];
+        }
       }
       Real* g = factors ? factor.data() + before : gradientFactor.data();
       kernel.evaluate(distance.data(), m, g, kernelWeights ? value.data() : nullptr);

@@ -49,7 +49,9 @@ struct NeighborLists {
   Index end(std::size_t i) const { return offsets[i + 1]; }
   Index count(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
   // grad W(x_ij) of pair e of a PairGradients::Factors list, x_ij = x_i - x_indices[e]: the
-  // same bits as Kernel::gradW(x_ij).
+  // same bits as Kernel::gradW(x_ij) in double builds; in float builds on AVX2 the distance is the
+  // square root of the search's squared one, which may differ from Eigen's norm in its last bit
+  // (NeighborSearch.cpp, kPacksSquaredDistances).
   Vector3r gradient(Index e, const Vector3r& xij) const { return xij * gradFactors[e]; }
   std::size_t pairCount() const { return indices.size(); }
 };
@@ -97,6 +99,8 @@ class PointGrid {
   std::array<int, 3> cellOf(const Vector3r& p) const { return {cellCoord(p[0], 0), cellCoord(p[1], 1), cellCoord(p[2], 2)}; }
   const Vector3r* sortedPoints() const { return sortedPoints_.data(); }
   const Index* sortedIndices() const { return sortedIndex_.data(); }
+  // Where point i (by the index it was built with) sits in the sorted arrays.
+  Index slotOf(std::size_t i) const { return slotOf_[i]; }
   // The sorted positions' coordinates along axis a (structure of arrays), for vectorised
   // distance tests straight over a candidate range.
   const Real* sortedCoordinates(int a) const { return sortedCoords_[a].data(); }
@@ -116,6 +120,7 @@ class PointGrid {
   std::array<int, 3> dims_ = {0, 0, 0};
   std::vector<Index> cellStart_;       // (cells + 1)
   std::vector<Index> sortedIndex_;     // (n) point index in cell order
+  std::vector<Index> slotOf_;          // (n) the inverse: the slot of point i
   std::vector<Vector3r> sortedPoints_; // (n) positions in cell order, for contiguous reads
   std::array<std::vector<Real>, 3> sortedCoords_;  // (3 x n) the same, x, y and z apart
   std::vector<Index> keys_;            // (n) scratch

@@ -1,5 +1,5 @@
-// Time per listed neighbour pair of the sums the solvers run over the fluid lists, on one thread:
-// the one-pair-at-a-time forms, the forms over blocks of pairs (Plugins/Pressure/PackedPairSums.h,
+// Time per listed neighbour pair of the sums the solvers run over the fluid lists, on one thread,
+// and of building those lists (the search, the padded copy): the one-pair-at-a-time forms, the forms over blocks of pairs (Plugins/Pressure/PackedPairSums.h,
 // Plugins/Viscosity/ViscosityLaplacian.h; their packing of slots included) and a rewrite that was
 // tried. Decisions of a few per cent need this: whole dam-break runs on the shared VM drift by
 // 10-20 % between runs, and the VM's clock by a factor two within seconds. Every variant runs
@@ -24,6 +24,10 @@
 #include "Simulation/StepContext.h"
 #include "Utilities/Log.h"
 #include "Utilities/Timer.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 using namespace consph;
 
@@ -58,6 +62,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: pair_loops [particles per side 4..200] [repetitions >= 1]\n");
     return 2;
   }
+#ifdef _OPENMP
+  omp_set_num_threads(1);  // the packing passes and the search too
+#endif
   // A block of water at rest spacing 2r with 5 % jitter (r = 0.0125, h = 4r): DamBreak's bulk.
   const Real r = Real(0.0125), spacing = 2 * r, h = 4 * r, rho0 = 1000;
   const CubicSplineKernel kernel(h);
@@ -104,7 +111,18 @@ int main(int argc, char** argv) {
     Real squares = 0;
     fluidDiagonalSums(ctx, i, massGradientSums[i], squares);
   }
+  PointGrid searchGrid;
+  NeighborLists searched;
   std::vector<Variant> variants = {
+      {"neighbour search: grid, fluid lists with kernel factors and densities (NeighborSearch.cpp)", [&] {
+         searchGrid.build(fluid.positions.data(), n, h);
+         buildNeighborLists(searchGrid, fluid.positions.data(), n, kernel, true, PairGradients::Factors, searched, fluid.masses.data());
+         return sumOf([&](std::size_t i) { return searched.kernelSums[i] + Real(searched.count(i)); });
+       }},
+      {"padded copy of the fluid lists (PaddedNeighborLists.h)", [&] {
+         padded.build(fn);
+         return double(padded.indices.size());
+       }},
       {"density rate, scalar (SphPressureTerms.h)", [&] { return sumOf([&](std::size_t i) { return fluidDensityRate(ctx, i); }); }},
       {"density rate, scalar, m_j W'/r first", [&] { return sumOf([&](std::size_t i) { return rateFactored(ctx, i); }); }},
       {"density rate, packed (PackedPairSums.h), with packing the velocities", [&] {

@@ -120,7 +120,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence, Real* largest) {
   const std::size_t n = f.size();
   const Real maxDrop = maxDensityDrop(ctx, rho0, settings_.overlapReliefSpeed);
   const Real relaxationTime = densityRelaxationTime(settings_.densityRelaxation, ctx);
-  if constexpr (kPackedPairSums) packed_.packVelocities(f);
+  if (kPackedPairSums && !velocitiesPacked_) packed_.packVelocities(f), velocitiesPacked_ = true;
   // The sum per range of the lists' balanced schedule, and the largest.
   struct Errors {
     double sum = 0;
@@ -160,7 +160,10 @@ void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k,
   if (treatment_.extrapolates())
     treatment_.extrapolate([&](Index j) { return ((accumulated ? (*accumulated)[j] : Real(0)) + k[j]) * f.densities[j] * f.densities[j]; });
   const std::vector<Real>& pkChange = treatment_.boundaryPressureChanges();
-  if constexpr (kPackedPairSums) packed_.packPressures(f, k.data());
+  if constexpr (kPackedPairSums) {
+    packed_.packPressures(f, k.data());
+    packed_.velocities.resize(4 * f.size());  // every slot is written below
+  }
   parallelFor(ctx.fluidNeighbors.work, f.size(), [&](std::size_t i) {
     const Real ki = k[i];
     Vector3r dv = kPackedPairSums ? packedFluidPressureAcceleration(ctx.paddedFluidNeighbors, i, packed_, ki, massGradientSums_[i])
@@ -168,7 +171,9 @@ void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k,
     // Boundary: Eq. (33) (consistent) or Eq. (16) (mirroring, extrapolation).
     dv += treatment_.acceleration(ctx, i, ki, ki * f.densities[i] * f.densities[i], pkChange);
     f.velocities[i] += dt * dv;
+    if constexpr (kPackedPairSums) PackedParticles::setVelocity(&packed_.velocities[4 * i], f, i);
   });
+  velocitiesPacked_ = kPackedPairSums;
 }
 
 void DFSPH::warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale) {
@@ -187,6 +192,7 @@ void DFSPH::warmStart(StepContext& ctx, std::vector<Real>& beta, Real dtScale) {
 
 void DFSPH::beforeNonPressureForces(StepContext& ctx) {
   stats_ = PressureSolverStats();
+  velocitiesPacked_ = false;  // the last step's solve and advection changed them
   computeDiagonal(ctx);
   const FluidView& f = ctx.fluid;
   const std::size_t n = f.size();
@@ -215,6 +221,7 @@ void DFSPH::beforeNonPressureForces(StepContext& ctx) {
 void DFSPH::solve(StepContext& ctx) {
   const FluidView& f = ctx.fluid;
   const std::size_t n = f.size();
+  velocitiesPacked_ = false;  // the non-pressure forces changed them
   // beta of the density solve scales with 1 / dt^2.
   warmStart(ctx, densityBeta_, (ctx.dtPrevious * ctx.dtPrevious) / (ctx.dt * ctx.dt));
   letBodiesRespond(ctx, true);

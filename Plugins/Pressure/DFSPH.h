@@ -78,12 +78,14 @@ class DFSPH final : public PressureSolver {
   std::vector<Real>& divergenceBeta_;  // accumulated beta of the divergence solve, sorted field
   std::vector<Real> invDiagonal_;      // 1 / D_i (Eq. 32 without the -dt / rho_i^2 factor)
   std::vector<Real> increment_;        // beta increment of the current iteration
-  std::vector<unsigned char> closingGap_;
+  std::vector<unsigned char> closingGap_;  // maxErrorParticle: 1 where two objects close in from opposite sides
   // The slots the fluid sums of every iteration read (PackedPairSums.h), packed by computeDiagonal
-  // (positions), computeSources (velocities) and applyPressureIncrement (m_j beta_j); and
+  // (positions), applyPressureIncrement (m_j beta_j, and the velocities it changes) or
+  // computeSources (the velocities, when no increment has written them since the forces); and
   // G_i = sum_j m_j grad W_ij of the pressure term, from computeDiagonal.
   PackedParticles packed_;
-  std::vector<Vector3r> massGradientSums_;  // maxErrorParticle: 1 where two objects close in from opposite sides
+  bool velocitiesPacked_ = false;  // packed_.velocities hold the fluid's velocities
+  std::vector<Vector3r> massGradientSums_;
   BoundaryPressureTreatment treatment_;
   Real divergenceDt_ = 0;                 // the time step the divergence solve of this step used
   std::vector<Real> divergenceBoundaryP_; // extrapolation: p_k of the divergence solve (its total)

@@ -38,11 +38,13 @@ struct PackedParticles {
   void packPressures(const FluidView& f, const Real* beta) {
     parallelFor(f.size(), [&](std::size_t i) { positions[4 * i + 3] = f.masses[i] * beta[i]; });
   }
-  // Velocities and masses: before every density-rate pass (each pressure increment changes them).
+  // Velocities and masses: before a density-rate pass, unless every slot was written since the
+  // velocities last changed (setVelocity, from the loop that changes them).
   void packVelocities(const FluidView& f) {
-    packSlots(velocities, f.size(), [&](std::size_t i, Real* s) {
-      s[0] = f.velocities[i][0], s[1] = f.velocities[i][1], s[2] = f.velocities[i][2], s[3] = f.masses[i];
-    });
+    packSlots(velocities, f.size(), [&](std::size_t i, Real* s) { setVelocity(s, f, i); });
+  }
+  static void setVelocity(Real* s, const FluidView& f, std::size_t i) {
+    s[0] = f.velocities[i][0], s[1] = f.velocities[i][1], s[2] = f.velocities[i][2], s[3] = f.masses[i];
   }
 };
 
