@@ -340,8 +340,8 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
         grad.resize(before + m);
       const Real px = xi[0], py = xi[1], pz = xi[2];
       // The pairs' distances and indices, then the kernel for all of them at once (vectorised,
-      // Kernel::evaluate), then the gradients and the weighted sum. The distances are
-      // Vector3r(x_i - x_j).norm()'s bits either way: the AVX2 test kept the squared ones.
+      // Kernel::evaluate), then the gradients and the weighted sum. The distances: Eigen's norm,
+      // or in float AVX2 builds the square roots of the test's squared ones (kPacksSquaredDistances).
       if constexpr (kPacksSquaredDistances) {
         squareRootsInPlace(distance.data(), m);
         for (std::size_t a = 0; a < m; ++a) idx[before + a] = si[accepted[a]];

@@ -119,6 +119,11 @@ int main(int argc, char** argv) {
          buildNeighborLists(searchGrid, fluid.positions.data(), n, kernel, true, PairGradients::Factors, searched, fluid.masses.data());
          return sumOf([&](std::size_t i) { return searched.kernelSums[i] + Real(searched.count(i)); });
        }},
+      {"neighbour search without the densities' sums and kernel values", [&] {
+         searchGrid.build(fluid.positions.data(), n, h);
+         buildNeighborLists(searchGrid, fluid.positions.data(), n, kernel, true, PairGradients::Factors, searched);
+         return double(searched.pairCount());
+       }},
       {"padded copy of the fluid lists (PaddedNeighborLists.h)", [&] {
          padded.build(fn);
          return double(padded.indices.size());
