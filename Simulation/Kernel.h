@@ -44,7 +44,8 @@ class CubicSplineKernel {
 
   // grad W(x) = x gradFactor(|x|) with x = x_i - x_j (points from j to i). Neighbour lists store
   // the scalar factor per pair and multiply it by x_ij where a loop needs the gradient: 4 bytes
-  // per pair to stream instead of 12, and the same bits as this function.
+  // per pair to stream instead of 12, and the same bits as this function (but in float AVX2
+  // builds, whose distances may be an ulp off Eigen's norm: NeighborSearch.cpp).
   Real gradFactor(Real r) const {
     const Real q = r * invH_;
     if (q > Real(1) || r < Real(1e-9) * h_) return Real(0);
@@ -58,8 +59,8 @@ class CubicSplineKernel {
   // gradFactor(r[a]) into g[a] and, where w is given, W(r[a]) into w[a], for a in [0, n): the
   // neighbour search's accepted pairs, a vector register at a time (8 floats or 4 doubles with
   // AVX2). Both pieces of the spline are computed and the right one picked, each written as the
-  // functions above write it, so the values have the same bits as theirs (the kernel and list
-  // tests assert it); branching per pair on q <= 1/2, which holds for an eighth of the pairs in
+  // functions above write it, so the values have the same bits as theirs (the kernel test
+  // asserts it); branching per pair on q <= 1/2, which holds for an eighth of the pairs in
   // no pattern, cost more than computing both.
   void evaluate(const Real* r, std::size_t n, Real* g, Real* w) const {
     if (w)

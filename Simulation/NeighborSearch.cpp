@@ -118,7 +118,7 @@ void squareRootsInPlace(Real* v, std::size_t m) {
 #endif
 }
 #else
-constexpr bool kPacksSquaredDistances = sizeof(Real) == 4;
+constexpr bool kPacksSquaredDistances = false;  // AVX-512 and scalar paths write no squared distances
 void squareRootsInPlace(Real*, std::size_t) {}
 #endif
 // What acceptCandidates may write past the candidates it is given: a block of lanes.
