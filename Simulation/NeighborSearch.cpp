@@ -72,9 +72,10 @@ constexpr LeftPackTable kLeftPack;
 // Of the first `live` (1-8) candidates at c, the mask of those within sqrt(h2) of p and not in
 // `excluded` (the query itself), |x_i - x_j|^2 as dx^2, then + dy^2, then + dz^2, fused, and
 // (float) their squared distances written to d2[0 ..), packed in order (8 values written; those
-// past the accepted ones are junk that the next call overwrites or nobody reads). A range's last few are read with masked loads, so that every
-// candidate of a list goes through this one formula (a scalar tail contracted by the compiler may
-// fuse in another order and, within an ulp of h, decide a pair differently: j listing i but not i j).
+// past the accepted ones are junk that the next call overwrites or nobody reads). A range's last
+// few are read with masked loads, so that every candidate of a list goes through this one
+// formula (a scalar tail contracted by the compiler may fuse in another order and, within an ulp
+// of h, decide a pair differently: j listing i but not i j).
 #if CONSPH_USE_DOUBLE
 // Double builds keep the distances of Eigen's norm (kPacksSquaredDistances below): the mask only.
 unsigned acceptEight(const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2, std::size_t live, unsigned excluded,
@@ -126,8 +127,8 @@ constexpr std::size_t kAcceptSlack = 8;
 
 // Writes the positions k in [first, last), in ascending order, of the candidates (SoA cx, cy, cz)
 // within sqrt(h2) of p but for the one at `selfSlot` (the query itself), and returns how many;
-// on the AVX2 path (kPacksSquaredDistances) their |x_i - x_j|^2 go to squaredDistances in the
-// same order. Both outputs have room for kAcceptSlack entries past the candidates. About one
+// on the AVX2 path in float (kPacksSquaredDistances) their |x_i - x_j|^2 go to squaredDistances
+// in the same order. Both outputs have room for kAcceptSlack entries past the candidates. About one
 // candidate in six passes, in no pattern a branch predictor can learn, so there is no branch per
 // candidate: with AVX-512 the test and the compaction (vpcompressd) take 16 candidates at a
 // time; with AVX2 (no compress-store) 8 at a time through a table of packed lanes (kLeftPack);
