@@ -29,9 +29,9 @@ inline unsigned selfBit(std::size_t selfSlot, std::size_t k, std::size_t lanes) 
 // Which of the 16 candidates at c (the `live` ones) lie within sqrt(h2) of p, |x_i - x_j|^2 as
 // dx^2, then + dy^2, then + dz^2, fused (the AVX2 path's order; the scalar fallback's is the
 // compiler's, so machines on different paths may decide a pair within an ulp of h differently,
-// where W and grad W are zero to within an ulp).
+// where W and grad W are zero to within an ulp). Float: the squared distances go to *d2.
 #if CONSPH_USE_DOUBLE
-__mmask16 withinRadius(__mmask16 live, const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2) {
+__mmask16 withinRadius(__mmask16 live, const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2, __m512*) {
   const auto half = [&](__mmask8 l, std::size_t o) {  // 8 doubles at a time
     const __m512d dx = _mm512_sub_pd(_mm512_set1_pd(p[0]), _mm512_maskz_loadu_pd(l, cx + o));
     const __m512d dy = _mm512_sub_pd(_mm512_set1_pd(p[1]), _mm512_maskz_loadu_pd(l, cy + o));
@@ -42,12 +42,12 @@ __mmask16 withinRadius(__mmask16 live, const Real* cx, const Real* cy, const Rea
   return __mmask16(half(__mmask8(live), 0) | half(__mmask8(live >> 8), 8) << 8);
 }
 #else
-__mmask16 withinRadius(__mmask16 live, const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2) {
+__mmask16 withinRadius(__mmask16 live, const Real* cx, const Real* cy, const Real* cz, const Vector3r& p, Real h2, __m512* d2) {
   const __m512 dx = _mm512_sub_ps(_mm512_set1_ps(p[0]), _mm512_maskz_loadu_ps(live, cx));
   const __m512 dy = _mm512_sub_ps(_mm512_set1_ps(p[1]), _mm512_maskz_loadu_ps(live, cy));
   const __m512 dz = _mm512_sub_ps(_mm512_set1_ps(p[2]), _mm512_maskz_loadu_ps(live, cz));
-  const __m512 d2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
-  return _mm512_mask_cmp_ps_mask(live, d2, _mm512_set1_ps(h2), _CMP_LE_OQ);
+  *d2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
+  return _mm512_mask_cmp_ps_mask(live, *d2, _mm512_set1_ps(h2), _CMP_LE_OQ);
 }
 #endif
 #endif
@@ -105,7 +105,9 @@ unsigned acceptEight(const Real* cx, const Real* cy, const Real* cz, const Vecto
   return in;
 }
 #endif
+#endif  // CONSPH_NEIGHBOR_AVX2
 
+#if defined(CONSPH_NEIGHBOR_AVX512) || defined(CONSPH_NEIGHBOR_AVX2)
 // The pairs' distances as the square roots of the test's squared distances, packed with the
 // positions, instead of a second pass gathering x_j for Eigen's norm (which the compiler
 // contracts in another order: 1 ulp apart for about one pair in six). Float builds only: double
@@ -119,18 +121,22 @@ void squareRootsInPlace(Real* v, std::size_t m) {
 #endif
 }
 #else
-constexpr bool kPacksSquaredDistances = false;  // AVX-512 and scalar paths write no squared distances
+constexpr bool kPacksSquaredDistances = false;  // the scalar path writes no squared distances
 void squareRootsInPlace(Real*, std::size_t) {}
 #endif
 // What acceptCandidates may write past the candidates it is given: a block of lanes.
+#if defined(CONSPH_NEIGHBOR_AVX512)
+constexpr std::size_t kAcceptSlack = 16;
+#else
 constexpr std::size_t kAcceptSlack = 8;
+#endif
 
 // Writes the positions k in [first, last), in ascending order, of the candidates (SoA cx, cy, cz)
 // within sqrt(h2) of p but for the one at `selfSlot` (the query itself), and returns how many;
-// on the AVX2 path in float (kPacksSquaredDistances) their |x_i - x_j|^2 go to squaredDistances
+// on the SIMD paths in float (kPacksSquaredDistances) their |x_i - x_j|^2 go to squaredDistances
 // in the same order. Both outputs have room for kAcceptSlack entries past the candidates. About one
 // candidate in six passes, in no pattern a branch predictor can learn, so there is no branch per
-// candidate: with AVX-512 the test and the compaction (vpcompressd) take 16 candidates at a
+// candidate: with AVX-512 the test and the compaction (vpcompressd in a register) take 16 candidates at a
 // time; with AVX2 (no compress-store) 8 at a time through a table of packed lanes (kLeftPack);
 // otherwise a vectorised distance loop and a branch-free scalar compaction. Within one build
 // every candidate takes one formula, so lists are symmetric (j lists i iff i lists j); the paths
@@ -148,8 +154,13 @@ std::size_t acceptCandidates(const Real* cx, const Real* cy, const Real* cz, std
       _mm512_add_epi32(_mm512_set1_epi32(int(first)), _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
   for (; k < last; k += kLanes) {
     const __mmask16 live = last - k >= kLanes ? __mmask16(0xffff) : __mmask16((1u << (last - k)) - 1);
-    const __mmask16 in = withinRadius(live, cx + k, cy + k, cz + k, p, h2) & __mmask16(~selfBit(selfSlot, k, kLanes));
-    _mm512_mask_compressstoreu_epi32(accepted + m, in, position);
+    __m512 d2;
+    const __mmask16 in = withinRadius(live, cx + k, cy + k, cz + k, p, h2, &d2) & __mmask16(~selfBit(selfSlot, k, kLanes));
+    // Compacted in a register and stored whole (the lanes past the accepted ones are junk within
+    // the slack): vpcompressd straight to memory is microcoded on Zen 4, 21 ns per 16 candidates
+    // against 1.4 ns this way (bench/RESULTS.md, "AVX-512 compaction in a register").
+    _mm512_storeu_si512(accepted + m, _mm512_maskz_compress_epi32(in, position));
+    if constexpr (kPacksSquaredDistances) _mm512_storeu_ps(squaredDistances + m, _mm512_maskz_compress_ps(in, d2));
     m += std::size_t(__builtin_popcount(unsigned(in)));
     position = _mm512_add_epi32(position, step);
   }
@@ -342,7 +353,7 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
       const Real px = xi[0], py = xi[1], pz = xi[2];
       // The pairs' distances and indices, then the kernel for all of them at once (vectorised,
       // Kernel::evaluate), then the gradients and the weighted sum. The distances: Eigen's norm,
-      // or in float AVX2 builds the square roots of the test's squared ones (kPacksSquaredDistances).
+      // or in float SIMD builds the square roots of the test's squared ones (kPacksSquaredDistances).
       if constexpr (kPacksSquaredDistances) {
         squareRootsInPlace(distance.data(), m);
         for (std::size_t a = 0; a < m; ++a) idx[before + a] = si[accepted[a]];

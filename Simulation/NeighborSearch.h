@@ -49,9 +49,9 @@ struct NeighborLists {
   Index end(std::size_t i) const { return offsets[i + 1]; }
   Index count(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
   // grad W(x_ij) of pair e of a PairGradients::Factors list, x_ij = x_i - x_indices[e]: the
-  // same bits as Kernel::gradW(x_ij) in double builds; in float builds on AVX2 the distance is the
-  // square root of the search's squared one, which may differ from Eigen's norm in its last bit
-  // (NeighborSearch.cpp, kPacksSquaredDistances).
+  // same bits as Kernel::gradW(x_ij) in double builds; in float builds on AVX2 or AVX-512 the
+  // distance is the square root of the search's squared one, which may differ from Eigen's norm
+  // in its last bit (NeighborSearch.cpp, kPacksSquaredDistances).
   Vector3r gradient(Index e, const Vector3r& xij) const { return xij * gradFactors[e]; }
   std::size_t pairCount() const { return indices.size(); }
 };
