@@ -166,7 +166,7 @@ void Simulation::restoreCheckpoint(const std::string& path) {
   if (emitters.size() != emitters_.size()) refuse("its emitters differ from the scene's");
   for (std::size_t i = 0; i < emitters.size(); ++i) emitters_[i].setState(emitters[i]);
 
-  time_ = in.get<Real>("time");
+  time_ = in.get<double>("time");
   dt_ = in.get<Real>("dt");
   dtPrevious_ = in.get<Real>("dtPrevious");
   timeStepCap_ = in.get<Real>("timeStepCap");
@@ -174,7 +174,7 @@ void Simulation::restoreCheckpoint(const std::string& path) {
   lastPressureIterations_ = in.has("lastPressureIterations") ? in.get<int>("lastPressureIterations") : 0;
   stats_ = in.get<SimulationStats>("stats");
   nextId_ = in.get<Index>("nextId");
-  emittersEndTime_ = in.get<Real>("emittersEndTime");
+  emittersEndTime_ = in.get<double>("emittersEndTime");
   nextProbeRow_ = in.get<std::size_t>("nextProbeRow");
   // Absent from checkpoints written before probe rows were window means (their rows were not).
   if (probes_ && in.has("probeWindow/time"))

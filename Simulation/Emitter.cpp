@@ -43,18 +43,18 @@ Emitter::Emitter(const EmitterDescription& d, Real spacing, Real stopAt) : d_(d)
 
 void Emitter::extendTo(Real endTime) { maxLayers_ = std::max(maxLayers_, std::size_t(layersUntil(d_, spacing_, endTime))); }
 
-std::size_t Emitter::emit(FluidModel& fluid, Real time, Real dt, Index& nextId) {
+std::size_t Emitter::emit(FluidModel& fluid, double time, Real dt, Index& nextId) {
   if (time + dt <= d_.start || time >= d_.end) return 0;
-  const Real t0 = std::max(time, d_.start), t1 = std::min(time + dt, d_.end);
+  const double t0 = std::max(time, double(d_.start)), t1 = std::min(time + dt, double(d_.end));
   pending_ += d_.speed * (t1 - t0);
   const Real mass = fluid.density0() * spacing_ * spacing_ * spacing_;
   const Vector3r velocity = d_.speed * d_.direction;
   std::size_t emitted = 0;
   // Small tolerance: steps that add up to exactly one spacing must emit their layer.
-  while (pending_ >= spacing_ * (1 - Real(1e-6)) && layersEmitted_ < maxLayers_) {
+  while (pending_ >= spacing_ * (1 - 1e-6) && layersEmitted_ < maxLayers_) {
     pending_ -= spacing_;
     // The layer left the nozzle `pending_` ago in distance: place it that far downstream.
-    const Vector3r offset = std::max(pending_, Real(0)) * d_.direction;
+    const Vector3r offset = Real(std::max(pending_, 0.0)) * d_.direction;
     const std::size_t base = fluid.size();
     fluid.resize(base + layerPoints_.size());
     for (std::size_t p = 0; p < layerPoints_.size(); ++p) {

@@ -39,12 +39,12 @@ class Emitter {
   static double estimateCapacity(const EmitterDescription& description, Real spacing, Real stopAt);
   // Emits the layers due in [time, time + dt): appends particles with ids from nextId on.
   // Returns how many it emitted.
-  std::size_t emit(FluidModel& fluid, Real time, Real dt, Index& nextId);
+  std::size_t emit(FluidModel& fluid, double time, Real dt, Index& nextId);
 
   // What changes while it emits (checkpoints save and restore it).
   struct State {
     std::size_t maxLayers, layersEmitted;
-    Real pending;
+    double pending;
   };
   State state() const { return {maxLayers_, layersEmitted_, pending_}; }
   void setState(const State& s) {
@@ -62,7 +62,9 @@ class Emitter {
   Real spacing_;
   std::vector<Vector3r> layerPoints_;  // world positions of one layer at the nozzle
   std::size_t maxLayers_ = 0, layersEmitted_ = 0;
-  Real pending_;  // length of fluid that has left the nozzle but is not emitted yet, m
+  // Length of fluid that has left the nozzle but is not emitted yet, m: in double in both builds,
+  // like the clock, so that float runs emit the same layers (a float sum of ~1e3 steps drifts).
+  double pending_;
 };
 
 }  // namespace consph

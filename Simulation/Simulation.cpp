@@ -451,7 +451,7 @@ void Simulation::step() {
   }
 }
 
-void Simulation::extendRunTo(Real until) {
+void Simulation::extendRunTo(double until) {
   if (emitters_.empty() || !(until > emittersEndTime_)) return;
   refuseIfTooLarge(estimateResources(until), scene_.maxParticles);
   emittersEndTime_ = until;
@@ -463,7 +463,7 @@ void Simulation::extendRunTo(Real until) {
   fluid_->fields().reserve(std::max(budget, fluid_->fields().capacity()));
 }
 
-void Simulation::run(Real until, const std::function<void(const Simulation&)>& progress, const std::function<bool()>& stop) {
+void Simulation::run(double until, const std::function<void(const Simulation&)>& progress, const std::function<bool()>& stop) {
   extendRunTo(until);
   while (!reached(until) && !(stop && stop())) {
     step();
@@ -720,7 +720,7 @@ void Simulation::writeProbeRowIfDue() {
   probeFile_->append(row);
 }
 
-std::string Simulation::probeRowsUpTo(const std::string& path, const std::string& header, Real time) {
+std::string Simulation::probeRowsUpTo(const std::string& path, const std::string& header, double time) {
   std::ifstream in(path);
   std::string line, kept = header;
   if (!in || !std::getline(in, line) || line != header) return header;  // none, or another scene's columns

@@ -56,14 +56,14 @@ class Simulation {
   // Python's run(until=...) past stopAt must not cut a jet short. Growing the storage may move
   // the fields' data (NumPy views taken before become stale; Python raises StaleViewError at
   // once). Refuses (InputError) a budget past the resource limit, like the scene's own.
-  void extendRunTo(Real until);
+  void extendRunTo(double until);
   // Steps until `until` (simulated seconds), extendRunTo(until) first; `progress` is called after
   // every step; `stop` (optional) is asked after every step and ends the run early when true.
-  void run(Real until, const std::function<void(const Simulation&)>& progress = {}, const std::function<bool()>& stop = {});
+  void run(double until, const std::function<void(const Simulation&)>& progress = {}, const std::function<bool()>& stop = {});
   // Whether run(until) would stop now: half a minimum step early, so no sliver of a step is left.
-  bool reached(Real until) const { return time_ >= until - Real(0.5) * scene_.minTimeStep; }
+  bool reached(double until) const { return time_ >= until - 0.5 * scene_.minTimeStep; }
 
-  Real time() const { return time_; }
+  double time() const { return time_; }
   Real dt() const { return dt_; }
   // The largest step the adaptive step may take, s (see chooseTimeStepCap).
   Real timeStepCap() const { return timeStepCap_; }
@@ -152,7 +152,7 @@ class Simulation {
   void measureWallLoads(StepContext& ctx);
   // The first line(s) of a restarted run's probes.csv: `header` and the rows of the file at
   // `path` up to simulated time `time` (only `header` when the file is missing or its header differs).
-  static std::string probeRowsUpTo(const std::string& path, const std::string& header, Real time);
+  static std::string probeRowsUpTo(const std::string& path, const std::string& header, double time);
   void writeProbeRowIfDue();
   StepContext makeContext();
 
@@ -180,9 +180,12 @@ class Simulation {
   std::size_t nextProbeRow_ = 0;
   std::vector<Emitter> emitters_;
   Index nextId_ = 0;                    // id of the next emitted particle
-  Real emittersEndTime_ = 0;            // the end time the emitters' budgets and the storage cover
+  double emittersEndTime_ = 0;          // the end time the emitters' budgets and the storage cover
 
-  Real time_ = 0, dt_ = 0, dtPrevious_ = 0, timeStepCap_ = 0;
+  // The clock is double in both builds: in float, t + dt loses dt's last digits once t is large
+  // (at t = 100 s a 1 ms step is off by 1e-5 of itself), and emitters and frames read it.
+  double time_ = 0;
+  Real dt_ = 0, dtPrevious_ = 0, timeStepCap_ = 0;
   int lastPressureIterations_ = 0;  // the last step's density solve, for timeStepControl "iterations"
   Real densityRelaxationTime_ = 0;  // s, see chooseTimeStepCap
   bool hasDomain_ = false;

@@ -38,7 +38,7 @@ struct StepContext {
   // s: the step the resolution calls for (Simulation::chooseTimeStepCap), not the step taken,
   // so lowering the step does not speed the correction up (SphPressureTerms.h, driftTarget).
   Real densityRelaxationTime;
-  Real time;
+  double time;  // s (double in both builds: Simulation::time_)
   std::size_t step;
   const LogSink& log;
   // The free dynamic bodies, for a solver that lets them answer within its iterations; null

@@ -222,7 +222,7 @@ int main(int argc, char** argv) {
     std::string state = "ok", failure;
     try {
       sim->run(
-          Real(stopAt), [&](const Simulation& s) { progress.update(s.time(), s.stepCount()); },
+          stopAt, [&](const Simulation& s) { progress.update(s.time(), s.stepCount()); },
           [] { return g_signal != 0; });
       if (g_signal != 0) {
         status = 128 + g_signal;

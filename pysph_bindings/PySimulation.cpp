@@ -160,7 +160,7 @@ void PySimulation::step(std::size_t n) {
   advance([&] { return simulation_->stepCount() >= end; }, py::none(), nullptr);
 }
 
-void PySimulation::run(Real until, py::object progress) {
+void PySimulation::run(double until, py::object progress) {
   const bool bar = py::isinstance<py::bool_>(progress) && progress.cast<bool>();
   if (!progress.is_none() && !py::isinstance<py::bool_>(progress) && !PyCallable_Check(progress.ptr()))
     throw py::type_error("run(progress=...): expected a bool or a callable(simulation)");
@@ -263,7 +263,7 @@ restart: a checkpoint of the same scene (save_checkpoint, output.checkpointInter
       .def(
           "run",
           [](PySimulation& s, const py::object& until, py::object progress) {
-            const Real end = until.is_none() ? s.simulation().scene().stopAt : until.cast<Real>();
+            const double end = until.is_none() ? double(s.simulation().scene().stopAt) : until.cast<double>();
             // NaN would never be reached and inf never ends: the CLI's --stop-at refuses both too.
             if (!std::isfinite(end)) throw py::value_error("run: until must be a finite time, got " + std::to_string(end));
             s.run(end, std::move(progress));

@@ -57,7 +57,7 @@ class PySimulation : public std::enable_shared_from_this<PySimulation> {
   // Steps `n` times / until simulated time `until`, with the GIL released. Returns to Python
   // every 0.2 s of wall time (Ctrl-C works) and after every step when `perStep` is a callable.
   void step(std::size_t n);
-  void run(Real until, py::object progress);
+  void run(double until, py::object progress);
   void exportFrame(const std::string& path);
   // Errors unless no step is running (adding a force from inside a step would be unsafe).
   void requireIdle() const;

@@ -22,6 +22,9 @@ inline constexpr double kFloatEps = std::numeric_limits<float>::epsilon();
 // The tolerance of this build: `doubleTol` in a double build (unchanged from before tests were
 // made precision-aware), `floatTol` in a float build.
 constexpr double roundoff(double doubleTol, double floatTol) { return kDoubleBuild ? doubleTol : floatTol; }
+// The same for a value the code computes in Real from the scene's numbers (a parameter stored,
+// a product, a square root): `doubleTol` in double, a few of float's ulps of `magnitude` in float.
+constexpr double fewUlps(double doubleTol, double magnitude) { return roundoff(doubleTol, 4 * kFloatEps * magnitude); }
 
 struct CapturedLog {
   std::vector<std::string> warnings, infos;

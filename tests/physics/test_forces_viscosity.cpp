@@ -187,7 +187,7 @@ TEST(ForcesViscosity, StandardStepLimitIsThePairsStabilityBound) {
   const Real rho = set.fluid.densities[0], m = set.fluid.masses[0], h = set.kernel.supportRadius();
   const Real dW = std::abs(set.kernel.gradW(Vector3r(d, 0, 0))[0]);
   const Real c = 10 * nu * (set.fluid.density0() / rho) * (m / rho) * dW * d / (d * d + Real(0.01) * h * h);
-  EXPECT_NEAR(viscosity->stepLimit(), 1 / c, 1e-9 / c);
+  EXPECT_NEAR(viscosity->stepLimit(), 1 / c, test::fewUlps(1e-9, 1) / c);
   auto growth = [&](Real dt) {
     set.fluid.velocities = {Vector3r(1, 0, 0), Vector3r(-1, 0, 0)};
     for (int s = 0; s < 100; ++s) {

@@ -962,7 +962,8 @@ TEST_P(RigidContactWith, BodyBodyContactConservesMomentum) {
   const double closing = double((b[0].velocityAt(touch) - b[1].velocityAt(touch))[0]);
   std::printf("[ contact ] momentum change %.3g relative, closest centres %.4f m (touching 0.2), velocities %.3f %.3f m/s, "
               "closing speed at the faces %.2g m/s\n", worst, closest, double(b[0].v[0]), double(b[1].v[0]), closing);
-  EXPECT_LT(worst, 1e-9);
+  // (Float: the bodies' momenta are rounded at each of the ~100 steps.)
+  EXPECT_LT(worst, test::roundoff(1e-9, 100 * test::kFloatEps));
   EXPECT_GT(closest, 0.2 - 0.025);  // not through each other (at most r of overlap)
   EXPECT_LT(closing, 1e-3);         // they separate or move on together, not through
 }
