@@ -373,7 +373,7 @@ std::string RigidBodySystem::csvHeader() const {
   return "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,fx,fy,fz,tx,ty,tz\n";
 }
 
-std::string RigidBodySystem::csvRows(Real time) const {
+std::string RigidBodySystem::csvRows(double time) const {
   std::ostringstream s;
   s.precision(9);
   for (const RigidBody& b : bodies_) {

@@ -93,7 +93,7 @@ class RigidBodySystem final : public MovingBodies {
 
   // Output: one CSV row per body (header first), and the bodies' surfaces as one .vtu.
   std::string csvHeader() const override;
-  std::string csvRows(Real time) const override;
+  std::string csvRows(double time) const override;
   std::string meshesToVtu() const;
   // Every body's surface where it is now: one mesh, each vertex's body (object index) and velocity.
   void worldMeshes(TriangleMesh& mesh, std::vector<Index>& body, std::vector<Vector3r>& velocity) const override;

@@ -44,8 +44,8 @@ class CubicSplineKernel {
 
   // grad W(x) = x gradFactor(|x|) with x = x_i - x_j (points from j to i). Neighbour lists store
   // the scalar factor per pair and multiply it by x_ij where a loop needs the gradient: 4 bytes
-  // per pair to stream instead of 12, and the same bits as this function (but in float AVX2
-  // builds, whose distances may be an ulp off Eigen's norm: NeighborSearch.cpp).
+  // per pair to stream instead of 12, and the same bits as this function (but in float builds on
+  // AVX2 or AVX-512, whose distances may be an ulp off Eigen's norm: NeighborSearch.cpp).
   Real gradFactor(Real r) const {
     const Real q = r * invH_;
     if (q > Real(1) || r < Real(1e-9) * h_) return Real(0);

@@ -71,7 +71,7 @@ class MovingBodies : public BodyResponse {
   // Output: bodies.csv (header, then one row per body) and every body's surface where it is now
   // (one mesh, each vertex's object index and velocity).
   virtual std::string csvHeader() const = 0;
-  virtual std::string csvRows(Real time) const = 0;
+  virtual std::string csvRows(double time) const = 0;
   virtual void worldMeshes(TriangleMesh& mesh, std::vector<Index>& object, std::vector<Vector3r>& velocity) const = 0;
 };
 

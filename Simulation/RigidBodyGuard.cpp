@@ -21,7 +21,7 @@ RigidBodyGuard::Limits RigidBodyGuard::limitsFor(Real speedScale, bool hasDomain
 RigidBodyGuard::RigidBodyGuard(std::vector<std::string> labels, const Limits& limits)
     : labels_(std::move(labels)), limits_(limits) {}
 
-void RigidBodyGuard::check(const MovingBodies& bodies, std::size_t step, Real time) const {
+void RigidBodyGuard::check(const MovingBodies& bodies, std::size_t step, double time) const {
   for (std::size_t i = 0; i < bodies.count(); ++i) {
     const MovingBodyState b = bodies.state(i);
     if (b.motion != BodyMotion::Dynamic) continue;  // animated bodies move as prescribed

@@ -31,7 +31,7 @@ class RigidBodyGuard {
   RigidBodyGuard(std::vector<std::string> labels, const Limits& limits);
 
   // Throws SimulationError for the first dynamic body that blew up.
-  void check(const MovingBodies& bodies, std::size_t step, Real time) const;
+  void check(const MovingBodies& bodies, std::size_t step, double time) const;
   const Limits& limits() const { return limits_; }
 
  private:

@@ -40,7 +40,7 @@ void expectBruteForce(const std::vector<Vector3r>& targets, const std::vector<Ve
       const Vector3r cached = lists.gradW.empty() ? lists.gradient(e, xij) : lists.gradW[e];
       if (lists.gradW.empty() && sizeof(Real) == 8)  // factors: the very bits of a fresh evaluation
         EXPECT_EQ(cached, kernel.gradW(xij));
-      else  // vectors; factors in float, whose distances come from the search's squared ones on AVX2
+      else  // vectors; factors in float, whose distances come from the search's squared ones (SIMD)
         EXPECT_LT((cached - kernel.gradW(xij)).norm(), tol);
     }
   }
