@@ -12,7 +12,7 @@ double Emitter::pointsAcross(Real extent, Real spacing) { return std::max(1.0, s
 double Emitter::layersUntil(const EmitterDescription& d, Real spacing, Real stopAt) {
   const double active = std::max(0.0, double(std::min(d.end, stopAt)) - double(d.start));
   // The scene's times, speed and spacing are stored in Real, each within half an ulp: in float a
-  // layer due exactly at the end time (stopAt 0.7 s at 1 m/s and a spacing of 0.05 m: the 15th)
+  // layer due exactly at the end time (stopAt 0.7 s at 2 m/s and a spacing of 0.025 m: the 57th)
   // must not fall to that rounding, so the tolerance covers a few of Real's ulps of the count too.
   const double layers = active * double(d.speed) / double(spacing);
   return std::floor(layers * (1 + 4 * double(std::numeric_limits<Real>::epsilon())) + 1e-6) + 1;
