@@ -224,6 +224,40 @@ void VolumeMap::normalMoments(const Vector3r& x, const CubicSplineKernel& kernel
   }
 }
 
+// Inlined into every sampler: as calls they were a fifth of the volume-map dam break's map
+// sampling (perf, bench/RESULTS.md "Volume-map sampling").
+[[gnu::always_inline]] inline bool VolumeMap::cellOf(const Vector3r& x, std::size_t corners[8], Real weights[8], Real fractions[3]) const {
+  const Vector3r u = (x - origin_) / cell_;
+  int c[3];
+  for (int a = 0; a < 3; ++a) {
+    const Real fl = std::floor(u[a]);
+    c[a] = int(fl);
+    if (c[a] < 0 || c[a] >= dims_[a] - 1) return false;
+    fractions[a] = u[a] - fl;
+  }
+  // Most cells lie inside one brick: one lookup for all eight corners.
+  const bool oneBrick = c[0] % kBrick < kBrick - 1 && c[1] % kBrick < kBrick - 1 && c[2] % kBrick < kBrick - 1;
+  const std::size_t base = oneBrick ? storedIndex(c[0], c[1], c[2]) : kAbsent;
+  if (oneBrick && base == kAbsent) return false;
+  for (int corner = 0; corner < 8; ++corner) {
+    const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
+    corners[corner] = oneBrick ? base + (std::size_t(dz) * kBrick + std::size_t(dy)) * kBrick + std::size_t(dx)
+                               : storedIndex(c[0] + dx, c[1] + dy, c[2] + dz);
+    if (corners[corner] == kAbsent || phi_[corners[corner]] == kFar) return false;
+    weights[corner] = (dx ? fractions[0] : 1 - fractions[0]) * (dy ? fractions[1] : 1 - fractions[1]) *
+                      (dz ? fractions[2] : 1 - fractions[2]);
+  }
+  return true;
+}
+
+[[gnu::always_inline]] inline Vector3r VolumeMap::weightGradient(int corner, const Real fractions[3]) {
+  // d/dx of the trilinear weights: +-(the other two axes' weights) / cell.
+  const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
+  const Real wx = dx ? fractions[0] : 1 - fractions[0], wy = dy ? fractions[1] : 1 - fractions[1],
+             wz = dz ? fractions[2] : 1 - fractions[2];
+  return Vector3r((dx ? 1 : -1) * wy * wz, (dy ? 1 : -1) * wx * wz, (dz ? 1 : -1) * wx * wy);
+}
+
 bool VolumeMap::distanceAndNormal(const Vector3r& y, Real& phi, Vector3r& normal) const {
   if (isBox_) {
     // The box's own distance and its gradient: the nearest face's normal inside, the direction
@@ -262,38 +296,6 @@ bool VolumeMap::distanceAndNormal(const Vector3r& y, Real& phi, Vector3r& normal
   return true;
 }
 
-bool VolumeMap::cellOf(const Vector3r& x, std::size_t corners[8], Real weights[8], Real fractions[3]) const {
-  const Vector3r u = (x - origin_) / cell_;
-  int c[3];
-  for (int a = 0; a < 3; ++a) {
-    const Real fl = std::floor(u[a]);
-    c[a] = int(fl);
-    if (c[a] < 0 || c[a] >= dims_[a] - 1) return false;
-    fractions[a] = u[a] - fl;
-  }
-  // Most cells lie inside one brick: one lookup for all eight corners.
-  const bool oneBrick = c[0] % kBrick < kBrick - 1 && c[1] % kBrick < kBrick - 1 && c[2] % kBrick < kBrick - 1;
-  const std::size_t base = oneBrick ? storedIndex(c[0], c[1], c[2]) : kAbsent;
-  if (oneBrick && base == kAbsent) return false;
-  for (int corner = 0; corner < 8; ++corner) {
-    const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
-    corners[corner] = oneBrick ? base + (std::size_t(dz) * kBrick + std::size_t(dy)) * kBrick + std::size_t(dx)
-                               : storedIndex(c[0] + dx, c[1] + dy, c[2] + dz);
-    if (corners[corner] == kAbsent || phi_[corners[corner]] == kFar) return false;
-    weights[corner] = (dx ? fractions[0] : 1 - fractions[0]) * (dy ? fractions[1] : 1 - fractions[1]) *
-                      (dz ? fractions[2] : 1 - fractions[2]);
-  }
-  return true;
-}
-
-Vector3r VolumeMap::weightGradient(int corner, const Real fractions[3]) {
-  // d/dx of the trilinear weights: +-(the other two axes' weights) / cell.
-  const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
-  const Real wx = dx ? fractions[0] : 1 - fractions[0], wy = dy ? fractions[1] : 1 - fractions[1],
-             wz = dz ? fractions[2] : 1 - fractions[2];
-  return Vector3r((dx ? 1 : -1) * wy * wz, (dy ? 1 : -1) * wx * wz, (dz ? 1 : -1) * wx * wy);
-}
-
 bool VolumeMap::sample(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume, Vector3r& volumeGradient) const {
   std::size_t corners[8];
   Real w[8], f[3];
@@ -312,6 +314,24 @@ bool VolumeMap::sample(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real
   }
   phiGradient /= cell_;
   volumeGradient /= cell_;
+  return phi < h_ && volume > 0 && phiGradient.squaredNorm() > Real(1e-12);
+}
+
+bool VolumeMap::sampleValues(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume) const {
+  std::size_t corners[8];
+  Real w[8], f[3];
+  if (!cellOf(x, corners, w, f)) return false;
+  // sample()'s sums in its order (the same bits), less grad V's.
+  phi = 0;
+  volume = 0;
+  phiGradient.setZero();
+  for (int c = 0; c < 8; ++c) {
+    const Real p = phi_[corners[c]], v = volume_[corners[c]];
+    phi += w[c] * p;
+    volume += w[c] * v;
+    phiGradient += p * weightGradient(c, f);
+  }
+  phiGradient /= cell_;
   return phi < h_ && volume > 0 && phiGradient.squaredNorm() > Real(1e-12);
 }
 

@@ -288,7 +288,7 @@ bool VolumeMapBoundary_Bender2019::virtualParticle(std::size_t piece, const Vect
   const Piece& p = pieces_[piece];
   const std::size_t o = p.object;
   const VolumeMap& map = *p.map;
-  auto outOfReach = [&](const Vector3r& xq) { return (xq - p.reachLo).minCoeff() < 0 || (p.reachHi - xq).minCoeff() < 0; };
+  auto outOfReach = [&](const Vector3r& xq) { return p.outOfReach(xq); };
   if (!moving_[o]) {
     if (outOfReach(x) || !map.sample(x, phi, phiGradient, volume, volumeGradient)) return false;
   } else {
@@ -339,16 +339,28 @@ Real VolumeMapBoundary_Bender2019::approachStepLimit(const FluidModel& fluid, co
   const Real tolerance = approachTolerance_;
   if (tolerance <= 0 || staticPieces_.empty()) return std::numeric_limits<Real>::infinity();
   const Real delta = Real(0.5) * particleRadius_;
+  // The virtual particles' m~ W(x - x_b), as virtualParticle places them (the same bits), without
+  // the constraint gradients: these two samples per particle near a wall were two thirds of the
+  // maps' sampling, and grad V, W'(s) went unused (bench/RESULTS.md, "Volume-map sampling").
+  // (rho0 V W(s) is the same value but for round-off; that round-off alone moved a resting
+  // tank's fastest particle from 0.044 to 0.059 m/s after 3.5 s, past its test's 0.05.)
   auto staticDensity = [&](const Vector3r& x) {
     Real rho = 0;
-    Vector3r xk, gk;
-    Real mk;
-    for (const std::size_t p : staticPieces_)
-      if (virtualParticle(p, x, kernel, xk, mk, gk)) rho += mk * kernel.W(x - xk);
+    for (const std::size_t p : staticPieces_) {
+      Real phi, volume;
+      Vector3r phiGradient;
+      if (pieces_[p].outOfReach(x) || !pieces_[p].map->sampleValues(x, phi, phiGradient, volume)) continue;
+      const Real s = std::max(phi + Real(0.5) * particleRadius_, 2 * particleRadius_);
+      const Vector3r position = x - s * phiGradient.normalized();
+      const Real mass = density0_ * volume;
+      rho += mass * kernel.W(x - position);
+    }
     return rho;
   };
   const Real rho0 = density0_;
-  return parallelReduce(
+  // A dynamic schedule: the particles near a wall, which sample the maps twice more, gather in
+  // one part of the sorted order; a minimum is exact in any grouping.
+  return parallelReduceDynamic(
       fluid.size(), std::numeric_limits<Real>::infinity(), [](Real& into, const Real& from) { into = std::min(into, from); },
       [&](std::size_t i, Real& shortest) {
         const Vector3r v = fluid.velocities[i];
@@ -417,17 +429,28 @@ Vector3r VolumeMapBoundary_Bender2019::impulseInBox(Index k, const Vector3r& x, 
 
 void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) {
   const std::size_t n = fluid.size(), pieces = pieces_.size();
+  const std::size_t chunks = parallelChunkCount();
+  // The particles that sample a map cost several times those that every reach test turns away,
+  // and they gather where the fluid meets the walls: in a Z-sorted dam break one thread's half
+  // held most of them, and the other waited. The ranges hold equal shares of the last call's
+  // virtual particles (a particle's own cost counted too): the lists come out the same whatever
+  // the ranges, which only move the work. After a Z-sort the last counts belong to other
+  // particles, but to ones nearby (the order changes little), which is all a balance needs.
+  constexpr std::size_t kCostPerParticle = 1, kCostPerVirtualParticle = 8;
+  if (out.offsets.size() == n + 1 && out.offsets[0] == 0)
+    work_.balance(n, chunks, [&](std::size_t i) { return kCostPerParticle * i + kCostPerVirtualParticle * std::size_t(out.offsets[i]); });
+  else
+    work_.balance(n, chunks, [](std::size_t i) { return i; });
   out.offsets.resize(n + 1);
   out.offsets[0] = 0;
   // One pass over the maps: each thread keeps the virtual particles of its contiguous chunk of
   // fluid particles in its own buffer (kept across steps, so steady steps allocate nothing), and
   // the buffers are then copied into the CSR arrays in chunk order. A count pass and a fill pass
   // would sample every map twice per particle.
-  const std::size_t chunks = parallelChunkCount();
   chunkScratch_.resize(chunks);
   for (auto& found : chunkScratch_) found.clear();  // a chunk a smaller team leaves out copies nothing
   std::vector<std::size_t> chunkBegin(chunks, n);
-  parallelChunks(n, [&](std::size_t t, std::size_t begin, std::size_t end) {
+  parallelChunks(work_, [&](std::size_t t, std::size_t begin, std::size_t end) {
     chunkBegin[t] = begin;
     // A local header: no false sharing of the vectors' sizes between threads.
     std::vector<VirtualParticle> found = std::move(chunkScratch_[t]);
