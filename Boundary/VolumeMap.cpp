@@ -296,43 +296,36 @@ bool VolumeMap::distanceAndNormal(const Vector3r& y, Real& phi, Vector3r& normal
   return true;
 }
 
-bool VolumeMap::sample(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume, Vector3r& volumeGradient) const {
+// sample() and sampleValues(): grad V only where it is asked for (volumeGradient not null), the
+// other sums the same bits either way.
+[[gnu::always_inline]] inline bool VolumeMap::interpolate(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume,
+                                                         Vector3r* volumeGradient) const {
   std::size_t corners[8];
   Real w[8], f[3];
   if (!cellOf(x, corners, w, f)) return false;
   phi = 0;
   volume = 0;
   phiGradient.setZero();
-  volumeGradient.setZero();
+  if (volumeGradient) volumeGradient->setZero();
   for (int c = 0; c < 8; ++c) {
     const Real p = phi_[corners[c]], v = volume_[corners[c]];
     phi += w[c] * p;
     volume += w[c] * v;
     const Vector3r dw = weightGradient(c, f);
     phiGradient += p * dw;
-    volumeGradient += v * dw;
+    if (volumeGradient) *volumeGradient += v * dw;
   }
   phiGradient /= cell_;
-  volumeGradient /= cell_;
+  if (volumeGradient) *volumeGradient /= cell_;
   return phi < h_ && volume > 0 && phiGradient.squaredNorm() > Real(1e-12);
 }
 
+bool VolumeMap::sample(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume, Vector3r& volumeGradient) const {
+  return interpolate(x, phi, phiGradient, volume, &volumeGradient);
+}
+
 bool VolumeMap::sampleValues(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume) const {
-  std::size_t corners[8];
-  Real w[8], f[3];
-  if (!cellOf(x, corners, w, f)) return false;
-  // sample()'s sums in its order (the same bits), less grad V's.
-  phi = 0;
-  volume = 0;
-  phiGradient.setZero();
-  for (int c = 0; c < 8; ++c) {
-    const Real p = phi_[corners[c]], v = volume_[corners[c]];
-    phi += w[c] * p;
-    volume += w[c] * v;
-    phiGradient += p * weightGradient(c, f);
-  }
-  phiGradient /= cell_;
-  return phi < h_ && volume > 0 && phiGradient.squaredNorm() > Real(1e-12);
+  return interpolate(x, phi, phiGradient, volume, nullptr);
 }
 
 Real VolumeMap::distance(const Vector3r& x) const {

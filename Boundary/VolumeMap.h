@@ -93,6 +93,8 @@ class VolumeMap {
   // Trilinear weights of x's cell (and the cell's fractions); false off the grid or in a cell
   // with a node outside the exact band.
   bool cellOf(const Vector3r& x, std::size_t corners[8], Real weights[8], Real fractions[3]) const;
+  // Phi, grad Phi, V at x and, where volumeGradient is given, grad V (sample, sampleValues).
+  bool interpolate(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume, Vector3r* volumeGradient) const;
   // d/dx of corner `corner`'s trilinear weight at the cell fractions, times the cell size.
   static Vector3r weightGradient(int corner, const Real fractions[3]);
   void computeDistances(const BoundaryObject& object);
