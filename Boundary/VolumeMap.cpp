@@ -328,6 +328,10 @@ bool VolumeMap::sampleValues(const Vector3r& x, Real& phi, Vector3r& phiGradient
   return interpolate(x, phi, phiGradient, volume, nullptr);
 }
 
+Real VolumeMap::largestVolume() const {
+  return parallelMax(volume_.size(), Real(0), [&](std::size_t n) { return volume_[n]; });
+}
+
 Real VolumeMap::distance(const Vector3r& x) const {
   std::size_t corners[8];
   Real w[8], f[3];

@@ -47,6 +47,8 @@ class VolumeMap {
   bool sample(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume, Vector3r& volumeGradient) const;
   // sample() without grad V (the boundary's density needs Phi, its gradient and V alone).
   bool sampleValues(const Vector3r& x, Real& phi, Vector3r& phiGradient, Real& volume) const;
+  // The largest stored V, which bounds the interpolated V everywhere.
+  Real largestVolume() const;
   // Phi alone (large and positive far from the surface or off the grid).
   Real distance(const Vector3r& x) const;
   // The surface a fluid particle at x meets, as normal moments: M = sum |w| n n^T over the points

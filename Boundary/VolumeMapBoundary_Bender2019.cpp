@@ -265,6 +265,13 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
       pieces_.push_back({std::move(maps[p]), b, lo - Vector3r::Constant(reach), hi + Vector3r::Constant(reach)});
     }
   }
+  // The largest boundary density each static map can give a point, for approachStepLimit's
+  // shortcut: a virtual particle's m~ W(|x - x_b|) = rho0 V W(s) with V at most the map's largest
+  // stored V (trilinear values lie within their corners') and s >= 2r; 1 % over, for the
+  // round-off of x_b's placement (|x - x_b| = s within an ulp). Deep in a wall (V of the whole
+  // ball) this is ~2 rho0, about twice what a particle at a wall meets: loose, but exact.
+  for (const std::size_t p : staticPieces_)
+    pieces_[p].densityBound = Real(1.01) * density0_ * pieces_[p].map->largestVolume() * kernel.W(2 * particleRadius_);
   if (!offsetNames.empty() && log_) {
     char line[160];
     std::snprintf(line, sizeof(line), "VolumeMap: surfaces %.3g r inside the solids (the resting fluid's surface on the meshes) of: ",
@@ -320,7 +327,7 @@ bool VolumeMapBoundary_Bender2019::virtualParticle(std::size_t piece, const Vect
 }
 
 Real VolumeMapBoundary_Bender2019::approachStepLimit(const FluidModel& fluid, const NeighborLists& neighbors,
-                                                       const CubicSplineKernel& kernel) const {
+                                                       const CubicSplineKernel& kernel, Real longestUseful) const {
   // rho_b(x): the static maps' boundary density, the sum of their virtual particles' m~ W.
   // Moving at v, a particle sees it change by grad rho_b . v dt (the density solve's linear
   // prediction) plus 1/2 kappa (|v| dt)^2, kappa = d^2 rho_b / du^2 along u = v / |v| (central
@@ -376,9 +383,25 @@ Real VolumeMapBoundary_Bender2019::approachStepLimit(const FluidModel& fluid, co
           if (moving_[samples_.bodies[k]]) return;
           r0 += samples_.masses[k] * kernel.W(x - samples_.positions[k]);
         }
-        const Real rp = staticDensity(x + delta * u);
+        // A particle that cannot shorten the step is left before the maps are sampled, or
+        // before the second sample: each of rho_b(x +- delta u) is at most the sum of the
+        // densityBounds of the maps within reach there, which bounds kappa from above and so this
+        // particle's step from below (the headroom's step is longer still). Most particles near a
+        // wall move too slowly to bind; the result is the same wherever it binds.
+        const Vector3r ahead = x + delta * u, behind = x - delta * u;
+        Real aheadBound = 0, behindBound = 0;
+        for (const std::size_t p : staticPieces_) {
+          if (!pieces_[p].outOfReach(ahead)) aheadBound += pieces_[p].densityBound;
+          if (!pieces_[p].outOfReach(behind)) behindBound += pieces_[p].densityBound;
+        }
+        const auto cannotBind = [&](Real kappaBound) {  // sqrt(e rho0 / (kappa/2 |v|^2)) >= longestUseful
+          return !(kappaBound > 0) || tolerance * rho0 >= Real(0.5) * kappaBound * speed * speed * longestUseful * longestUseful;
+        };
+        if (cannotBind((aheadBound + behindBound - 2 * r0) / (delta * delta))) return;
+        const Real rp = staticDensity(ahead);
         if (r0 <= 0 && rp <= 0) return;  // no static wall within reach, now or r/2 on
-        const Real rm = staticDensity(x - delta * u);
+        if (cannotBind((rp + behindBound - 2 * r0) / (delta * delta))) return;
+        const Real rm = staticDensity(behind);
         const Real kappa = (rp - 2 * r0 + rm) / (delta * delta);
         if (!(kappa > 0)) return;
         const Real curve = Real(0.5) * kappa * speed * speed;  // the miss is curve dt^2

@@ -73,7 +73,8 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   // density pass) may take the longer step over which its whole change stays under that. Static
   // maps only, and no particle within reach of a moving body: the gaps a body closes are closing
   // gaps (the .cpp says what counting them did).
-  Real approachStepLimit(const FluidModel& fluid, const NeighborLists& neighbors, const CubicSplineKernel& kernel) const override;
+  Real approachStepLimit(const FluidModel& fluid, const NeighborLists& neighbors, const CubicSplineKernel& kernel,
+                         Real longestUseful) const override;
   // The maps: one per object, or one per wall of a box container ("containers": "walls").
   std::size_t mapCount() const { return pieces_.size(); }
   const VolumeMap& pieceMap(std::size_t piece) const { return *pieces_[piece].map; }
@@ -133,6 +134,7 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
     Vector3r reachLo, reachHi;
     // x (in the map's frame) outside that box. Written out: Eigen's minCoeff of the differences
     // was a call of its own per map and particle (2 % of a volume-map dam break's step).
+    Real densityBound = 0;  // static maps: the largest rho0 V W(s) a point can get from it, 1 % over
     bool outOfReach(const Vector3r& x) const {
       return x[0] < reachLo[0] || x[1] < reachLo[1] || x[2] < reachLo[2] || x[0] > reachHi[0] || x[1] > reachHi[1] || x[2] > reachHi[2];
     }

@@ -93,8 +93,11 @@ class BoundaryModel {
   virtual bool implicit() const { return false; }
   // The longest step the boundary allows the particles as they move now (the time step takes it
   // like the CFL condition); infinity: no limit (VolumeMap's approachTolerance). `neighbors`: the
-  // lists this step's findNeighbors filled, for the particles where they are now.
-  virtual Real approachStepLimit(const FluidModel& fluid, const NeighborLists& neighbors, const CubicSplineKernel& kernel) const {
+  // lists this step's findNeighbors filled, for the particles where they are now. Where the limit
+  // is `longestUseful` or more (the step the other bounds give), any value from there up may be
+  // returned: a model may skip the particles that cannot shorten the step.
+  virtual Real approachStepLimit(const FluidModel& fluid, const NeighborLists& neighbors, const CubicSplineKernel& kernel,
+                                 Real longestUseful) const {
     return std::numeric_limits<Real>::infinity();
   }
   // How far object o's samples lie inside its solid (0: on its surface); rigid contact uses it.

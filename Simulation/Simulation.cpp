@@ -555,7 +555,7 @@ void Simulation::updateTimeStep() {
   }
   if (forceLimited) ++stats_.stabilityLimitedSteps;
   // The boundary's bound (volume maps' approachTolerance): a particle moving into a wall or corner.
-  const Real boundaryLimit = boundaryModel_->approachStepLimit(*fluid_, boundaryNeighbors_, kernel_);
+  const Real boundaryLimit = boundaryModel_->approachStepLimit(*fluid_, boundaryNeighbors_, kernel_, std::min(dt, timeStepCap_));
   if (boundaryLimit < dt && boundaryLimit < timeStepCap_) dt = boundaryLimit, ++stats_.boundaryLimitedSteps;
   dt_ = std::clamp(dt, scene_.minTimeStep, timeStepCap_);
 }
