@@ -34,7 +34,7 @@ class ParticleBoundary_Akinci2012 final : public BoundaryModel {
   ParticleBoundary_Akinci2012(const Params& params, Real particleRadius, Real fluidSpacing);
   void initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid, const CubicSplineKernel& kernel) override;
   BoundaryEstimate estimate(const std::vector<BoundaryObject>& objects, const CubicSplineKernel& kernel) const override;
-  void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
+  void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out, const Real* fluidDensities) override;
   Real layerDepth(std::size_t object) const override { return object < layerDepths_.size() ? layerDepths_[object] : Real(0); }
 
   static std::vector<ParamSpec> parameters();

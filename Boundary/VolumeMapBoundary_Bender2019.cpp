@@ -450,7 +450,9 @@ Vector3r VolumeMapBoundary_Bender2019::impulseInBox(Index k, const Vector3r& x, 
   return moving_[o] ? Vector3r(pose.rotation * share) : share;
 }
 
-void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) {
+void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out,
+                                                 const Real*) {
+  out.kernelSums.clear();  // the virtual particles' densities are summed by computeDensities
   const std::size_t n = fluid.size(), pieces = pieces_.size();
   const std::size_t chunks = parallelChunkCount();
   // The particles that sample a map cost several times those that every reach test turns away,

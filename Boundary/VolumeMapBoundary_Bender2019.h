@@ -51,7 +51,7 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
                                const std::string& sceneDirectory = "");
   void initialize(const std::vector<BoundaryObject>& objects, const FluidModel& fluid, const CubicSplineKernel& kernel) override;
   BoundaryEstimate estimate(const std::vector<BoundaryObject>& objects, const CubicSplineKernel& kernel) const override;
-  void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) override;
+  void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out, const Real* fluidDensities) override;
   bool implicit() const override { return true; }
   // A virtual particle stands for the surface within h of its fluid particle: its load J is
   // taken apart along the normals of that surface, weighted as they make up grad V

@@ -86,8 +86,13 @@ class BoundaryModel {
   // What initialize() would allocate for `objects`, computed in floating point before it runs,
   // so that a scene too large to fit is refused up front (ResourceEstimate).
   virtual BoundaryEstimate estimate(const std::vector<BoundaryObject>& objects, const CubicSplineKernel& kernel) const = 0;
-  // Fills fluid i -> boundary sample k lists (with cached kernel gradients).
-  virtual void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out) = 0;
+  // Fills fluid i -> boundary sample k lists (with cached kernel gradients). `fluidDensities`
+  // (null, or one per fluid particle: its fluid density sum_j m_j W_ij, m_i W(0) included): a
+  // model whose search can sum its samples' m~_k W_ik while it lists them fills out.kernelSums
+  // with fluidDensities[i] plus that sum, added in list order (the particle's density, the bits
+  // of a loop over its lists after the fluid's); otherwise out.kernelSums is left empty.
+  virtual void findNeighbors(const FluidModel& fluid, const CubicSplineKernel& kernel, NeighborLists& out,
+                             const Real* fluidDensities) = 0;
   // True when the samples are virtual particles rebuilt every step (one per fluid particle and
   // object, volume maps), not a fixed sampling of the surfaces.
   virtual bool implicit() const { return false; }

@@ -264,7 +264,8 @@ void PointGrid::build(const Vector3r* points, std::size_t n, Real cellSize) {
 }
 
 void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::size_t n, const CubicSplineKernel& kernel,
-                        bool excludeSelf, PairGradients gradients, NeighborLists& out, const Real* kernelWeights) {
+                        bool excludeSelf, PairGradients gradients, NeighborLists& out, const Real* kernelWeights,
+                        const Real* kernelSumStarts) {
   const Real h = kernel.supportRadius();
   const bool factors = gradients == PairGradients::Factors;
   out.offsets.resize(n + 1);
@@ -373,7 +374,7 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
         }
       if (kernelWeights) {
         // The same sum, in the same order, as a loop over the finished list would give.
-        Real sum = excludeSelf ? kernelWeights[i] * kernel.W0() : Real(0);
+        Real sum = excludeSelf ? kernelWeights[i] * kernel.W0() : (kernelSumStarts ? kernelSumStarts[i] : Real(0));
         for (std::size_t a = 0; a < m; ++a) sum += kernelWeights[idx[before + a]] * value[a];
         out.kernelSums[i] = sum;
       }

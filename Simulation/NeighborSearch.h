@@ -130,9 +130,12 @@ class PointGrid {
 // radius; `excludeSelf` drops j == i (query set == grid set).
 // The grid keeps its own copy of the points it was built over, for the cached kernel gradients.
 // With `kernelWeights` (one per grid point, by original index) it also fills out.kernelSums while
-// each x_j is in cache, which saves the densities a pass over the lists.
+// each x_j is in cache, which saves the densities a pass over the lists. `kernelSumStarts` (one
+// per query; not with excludeSelf): each sum starts there instead of at 0, so that a second set's
+// terms continue a first set's sum in the order a loop over both lists would add them.
 void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::size_t nQueries, const CubicSplineKernel& kernel,
-                        bool excludeSelf, PairGradients gradients, NeighborLists& out, const Real* kernelWeights = nullptr);
+                        bool excludeSelf, PairGradients gradients, NeighborLists& out, const Real* kernelWeights = nullptr,
+                        const Real* kernelSumStarts = nullptr);
 
 // A permutation that orders the points along a Z-order (Morton) curve of cells of `cellSize`,
 // so that neighbours in space are neighbours in memory.

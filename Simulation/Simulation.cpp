@@ -485,7 +485,7 @@ void Simulation::findNeighbors() {
   bool padded = pressureSolver_->readsPaddedNeighbors();
   for (const auto& force : forces_) padded = padded || force->readsPaddedNeighbors();
   if (padded) paddedFluidNeighbors_.build(fluidNeighbors_);
-  boundaryModel_->findNeighbors(f, kernel_, boundaryNeighbors_);
+  boundaryModel_->findNeighbors(f, kernel_, boundaryNeighbors_, fluidNeighbors_.kernelSums.data());
 }
 
 void Simulation::computeDensities() {
@@ -499,13 +499,20 @@ void Simulation::computeDensities() {
     into.sum += from.sum;
     into.max = std::max(into.max, from.max);
   };
+  const bool boundarySummed = boundaryNeighbors_.kernelSums.size() == f.size();
   const DensityError error = parallelReduce(f.size(), DensityError{}, join, [&](std::size_t i, DensityError& acc) {
     const Vector3r xi = f.positions[i];
-    // m_i W(0) + sum_j m_j W_ij, summed by the neighbour search (findNeighbors).
-    Real rho = fluidNeighbors_.kernelSums[i];
-    for (Index e = boundaryNeighbors_.begin(i); e < boundaryNeighbors_.end(i); ++e) {
-      const Index k = boundaryNeighbors_.indices[e];
-      rho += b.masses[k] * kernel_.W(xi - b.positions[k]);
+    // m_i W(0) + sum_j m_j W_ij, summed by the neighbour search (findNeighbors), then the
+    // boundary's sum_k m~_k W_ik: by the boundary's search where its model summed it there.
+    Real rho;
+    if (boundarySummed) {
+      rho = boundaryNeighbors_.kernelSums[i];
+    } else {
+      rho = fluidNeighbors_.kernelSums[i];
+      for (Index e = boundaryNeighbors_.begin(i); e < boundaryNeighbors_.end(i); ++e) {
+        const Index k = boundaryNeighbors_.indices[e];
+        rho += b.masses[k] * kernel_.W(xi - b.positions[k]);
+      }
     }
     f.densities[i] = rho;
     const double err = std::max<double>(rho - rho0, 0) / rho0;  // compression only

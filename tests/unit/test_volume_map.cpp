@@ -250,7 +250,7 @@ TEST_P(PairGradient, IsTheGradientOfTheBoundaryDensity) {
       fluid.positions[2 + 2 * a] = x - eps * Vector3r::Unit(a);
     }
     NeighborLists lists;
-    model->findNeighbors(fluid, kernel, lists);
+    model->findNeighbors(fluid, kernel, lists, nullptr);
     const BoundarySamples& b = model->samples();
     auto density = [&](std::size_t i) {
       Real rho = 0;
@@ -300,7 +300,7 @@ TEST(VolumeMapBoundary, AMovingBodysMapTurnsWithIt) {
   fluid.positions[0] = Vector3r(0.25 + 2.5 * kR, 0.05, 0.2);  // beside the turned plate
   fluid.positions[1] = Vector3r(0.4, 0.1 + 2.5 * kR, 0.2);    // above where its top face was, 6 r off the turned plate
   NeighborLists lists;
-  model->findNeighbors(fluid, kernel, lists);
+  model->findNeighbors(fluid, kernel, lists, nullptr);
   ASSERT_EQ(lists.count(0), 1u);
   EXPECT_EQ(lists.count(1), 0u);
   const BoundarySamples& b = model->samples();
@@ -315,7 +315,7 @@ TEST(VolumeMapBoundary, AMovingBodysMapTurnsWithIt) {
   model->follow({PoseUpdate{0, ObjectPose{Matrix3r::Identity(), pose.centre, pose.initialCentre}}});
   NeighborLists unturned;
   const Real mass = b.masses[k];
-  model->findNeighbors(fluid, kernel, unturned);
+  model->findNeighbors(fluid, kernel, unturned, nullptr);
   ASSERT_EQ(unturned.count(0), 1u);
   EXPECT_NEAR(model->samples().masses[unturned.indices[unturned.begin(0)]], mass, Real(1e-9) * mass);
 }
