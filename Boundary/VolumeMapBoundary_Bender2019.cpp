@@ -268,7 +268,7 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
   // The largest boundary density each static map can give a point, for approachStepLimit's
   // shortcut: a virtual particle's m~ W(|x - x_b|) = rho0 V W(s) with V at most the map's largest
   // stored V (trilinear values lie within their corners') and s >= 2r; 1 % over, for the
-  // round-off of x_b's placement (|x - x_b| = s within an ulp). Deep in a wall (V of the whole
+  // round-off of x_b's placement (|x - x_b| is s to within the round-off of x's coordinates). Deep in a wall (V of the whole
   // ball) this is ~2 rho0, about twice what a particle at a wall meets: loose, but exact.
   for (const std::size_t p : staticPieces_)
     pieces_[p].densityBound = Real(1.01) * density0_ * pieces_[p].map->largestVolume() * kernel.W(2 * particleRadius_);
@@ -394,13 +394,15 @@ Real VolumeMapBoundary_Bender2019::approachStepLimit(const FluidModel& fluid, co
           if (!pieces_[p].outOfReach(ahead)) aheadBound += pieces_[p].densityBound;
           if (!pieces_[p].outOfReach(behind)) behindBound += pieces_[p].densityBound;
         }
-        const auto cannotBind = [&](Real kappaBound) {  // sqrt(e rho0 / (kappa/2 |v|^2)) >= longestUseful
-          return !(kappaBound > 0) || tolerance * rho0 >= Real(0.5) * kappaBound * speed * speed * longestUseful * longestUseful;
+        // The bound's step in the very operations of `longest` below, each rounding monotonically:
+        // a bound at or above kappa gives a step at or below longest's, also at a tie.
+        const auto cannotBind = [&](Real kappaBound) {
+          return !(kappaBound > 0) || std::sqrt(tolerance * rho0 / (Real(0.5) * kappaBound * speed * speed)) >= longestUseful;
         };
-        if (cannotBind((aheadBound + behindBound - 2 * r0) / (delta * delta))) return;
+        if (cannotBind((aheadBound - 2 * r0 + behindBound) / (delta * delta))) return;
         const Real rp = staticDensity(ahead);
         if (r0 <= 0 && rp <= 0) return;  // no static wall within reach, now or r/2 on
-        if (cannotBind((rp + behindBound - 2 * r0) / (delta * delta))) return;
+        if (cannotBind((rp - 2 * r0 + behindBound) / (delta * delta))) return;
         const Real rm = staticDensity(behind);
         const Real kappa = (rp - 2 * r0 + rm) / (delta * delta);
         if (!(kappa > 0)) return;

@@ -78,6 +78,9 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
   // The maps: one per object, or one per wall of a box container ("containers": "walls").
   std::size_t mapCount() const { return pieces_.size(); }
   const VolumeMap& pieceMap(std::size_t piece) const { return *pieces_[piece].map; }
+  // A static map's bound of the boundary density its virtual particle gives any point (0 for a
+  // moving body's map): approachStepLimit's shortcut rests on it.
+  Real pieceDensityBound(std::size_t piece) const { return pieces_[piece].densityBound; }
   std::size_t pieceObject(std::size_t piece) const { return pieces_[piece].object; }
   // The first map of an object (its only one unless it is a box container split into walls).
   const VolumeMap& map(std::size_t object) const { return *pieces_[firstPiece_[object]].map; }
