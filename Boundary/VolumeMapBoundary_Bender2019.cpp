@@ -268,8 +268,9 @@ void VolumeMapBoundary_Bender2019::initialize(const std::vector<BoundaryObject>&
   // The largest boundary density each static map can give a point, for approachStepLimit's
   // shortcut: a virtual particle's m~ W(|x - x_b|) = rho0 V W(s) with V at most the map's largest
   // stored V (trilinear values lie within their corners') and s >= 2r; 1 % over, for the
-  // round-off of x_b's placement (|x - x_b| is s to within the round-off of x's coordinates). Deep in a wall (V of the whole
-  // ball) this is ~2 rho0, about twice what a particle at a wall meets: loose, but exact.
+  // round-off of x_b's placement (|x - x_b| is s to within the round-off of x's coordinates).
+  // Deep in a wall (V of the whole ball) this is ~2 rho0, about twice what a particle at a wall
+  // meets: loose (it leaves out a minority of the particles), but exact.
   for (const std::size_t p : staticPieces_)
     pieces_[p].densityBound = Real(1.01) * density0_ * pieces_[p].map->largestVolume() * kernel.W(2 * particleRadius_);
   if (!offsetNames.empty() && log_) {
@@ -295,14 +296,13 @@ bool VolumeMapBoundary_Bender2019::virtualParticle(std::size_t piece, const Vect
   const Piece& p = pieces_[piece];
   const std::size_t o = p.object;
   const VolumeMap& map = *p.map;
-  auto outOfReach = [&](const Vector3r& xq) { return p.outOfReach(xq); };
   if (!moving_[o]) {
-    if (outOfReach(x) || !map.sample(x, phi, phiGradient, volume, volumeGradient)) return false;
+    if (p.outOfReach(x) || !map.sample(x, phi, phiGradient, volume, volumeGradient)) return false;
   } else {
     // The map is the body's at t = 0: query it there, turn the gradients into the world.
     const ObjectPose& pose = poses_[o];
     const Vector3r xq = pose.toInitial(x);
-    if (outOfReach(xq) || !map.sample(xq, phi, phiGradient, volume, volumeGradient)) return false;
+    if (p.outOfReach(xq) || !map.sample(xq, phi, phiGradient, volume, volumeGradient)) return false;
     phiGradient = pose.rotation * phiGradient;
     volumeGradient = pose.rotation * volumeGradient;
   }
@@ -386,8 +386,8 @@ Real VolumeMapBoundary_Bender2019::approachStepLimit(const FluidModel& fluid, co
         // A particle that cannot shorten the step is left before the maps are sampled, or
         // before the second sample: each of rho_b(x +- delta u) is at most the sum of the
         // densityBounds of the maps within reach there, which bounds kappa from above and so this
-        // particle's step from below (the headroom's step is longer still). Most particles near a
-        // wall move too slowly to bind; the result is the same wherever it binds.
+        // particle's step from below (the headroom's step is longer still). A slow particle near a
+        // wall is left out so; the result is the same wherever it binds.
         const Vector3r ahead = x + delta * u, behind = x - delta * u;
         Real aheadBound = 0, behindBound = 0;
         for (const std::size_t p : staticPieces_) {
@@ -464,7 +464,7 @@ void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const 
   // the ranges, which only move the work. After a Z-sort the last counts belong to other
   // particles, but to ones nearby (the order changes little), which is all a balance needs.
   constexpr std::size_t kCostPerParticle = 1, kCostPerVirtualParticle = 8;
-  if (out.offsets.size() == n + 1 && out.offsets[0] == 0)
+  if (out.offsets.size() == n + 1)
     work_.balance(n, chunks, [&](std::size_t i) { return kCostPerParticle * i + kCostPerVirtualParticle * std::size_t(out.offsets[i]); });
   else
     work_.balance(n, chunks, [](std::size_t i) { return i; });
