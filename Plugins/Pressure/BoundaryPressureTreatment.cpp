@@ -22,7 +22,8 @@ void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
   squeeze_.resize(keepSqueeze_ ? n : 0);
   // Samples of one object squeeze nothing (squeezeOf: 0 below two objects), so its pass over the
   // pairs is skipped then (3 % of a particle-wall dam break's step, whose tank is one object).
-  const bool severalObjects = parallelAny(b.size(), [&](std::size_t k) { return b.bodies[k] != b.bodies[0]; });
+  const bool severalObjects =
+      (squeeze || keepSqueeze_) && parallelAny(b.size(), [&](std::size_t k) { return b.bodies[k] != b.bodies[0]; });
   parallelFor(n, [&](std::size_t i) {
     Vector3r g = Vector3r::Zero();
     Real squares = 0;
@@ -32,7 +33,7 @@ void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
       squares += mk * bn.gradW[e].squaredNorm();
     }
     gradientSum_[i] = g;
-    const Real squeezeI = (squeeze || keepSqueeze_) && severalObjects ? squeezeOf(ctx, i, g) : Real(0);
+    const Real squeezeI = severalObjects ? squeezeOf(ctx, i, g) : Real(0);
     if (keepSqueeze_) squeeze_[i] = squeezeI;
     const Real weight = classicalDiagonal_ ? Real(1) : squeeze ? squeezeI : Real(0);
     diagonalTerm_[i] = weight * f.masses[i] * squares;  // Eq. (15), weighted
