@@ -24,15 +24,21 @@ void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
   // pairs is skipped then (3 % of a particle-wall dam break's step, whose tank is one object).
   const bool severalObjects =
       (squeeze || keepSqueeze_) && parallelAny(b.size(), [&](std::size_t k) { return b.bodies[k] != b.bodies[0]; });
+  // The samples' part of the density rate (densityRate), only where some sample moves.
+  const bool movingSamples = parallelAny(b.size(), [&](std::size_t k) { return b.velocities[k] != Vector3r::Zero(); });
+  sampleFlux_.resize(movingSamples ? n : 0);
   parallelFor(n, [&](std::size_t i) {
     Vector3r g = Vector3r::Zero();
-    Real squares = 0;
+    Real squares = 0, flux = 0;
     for (Index e = bn.begin(i); e < bn.end(i); ++e) {
-      const Real mk = b.masses[bn.indices[e]];
+      const Index k = bn.indices[e];
+      const Real mk = b.masses[k];
       g += mk * bn.gradW[e];
       squares += mk * bn.gradW[e].squaredNorm();
+      if (movingSamples) flux += mk * b.velocities[k].dot(bn.gradW[e]);
     }
     gradientSum_[i] = g;
+    if (movingSamples) sampleFlux_[i] = flux;
     const Real squeezeI = severalObjects ? squeezeOf(ctx, i, g) : Real(0);
     if (keepSqueeze_) squeeze_[i] = squeezeI;
     const Real weight = classicalDiagonal_ ? Real(1) : squeeze ? squeezeI : Real(0);

@@ -54,6 +54,14 @@ class BoundaryPressureTreatment {
 
   // g_i = sum_k m~_k grad W_ik: enters the squared gradient sum of Eqs. (15) and (32).
   const Vector3r& boundaryGradient(std::size_t i) const { return gradientSum_[i]; }
+  // Eq. (14)'s boundary part of the density rate, sum_k m~_k (v_i - v_k) . grad W_ik, as
+  // v_i . g_i - sum_k m~_k v_k . grad W_ik: the second sum is taken in beginStep (0 where no
+  // sample moves), so a solver's iterations visit no boundary neighbour for it either. Valid while
+  // the samples keep the velocities they had at beginStep: a solver that moves them between its
+  // iterations (BodyResponse) sums over the pairs instead (SphPressureTerms.h, boundaryDensityRate).
+  Real densityRate(std::size_t i, const Vector3r& vi) const {
+    return vi.dot(gradientSum_[i]) - (sampleFlux_.empty() ? Real(0) : sampleFlux_[i]);
+  }
   // Eq. (15)'s sum_k m_i m~_k |grad W_ik|^2 (mirroring, extrapolation). Consistent (Eq. 32):
   // that term times the particle's squeeze, 1 - |sum_o g_o| / sum_o |g_o| over the boundary
   // objects o it meets (g_o: g_i's part from object o): 0 against one object, where Eq. (32)
@@ -172,6 +180,7 @@ class BoundaryPressureTreatment {
   static constexpr int kSqueezeObjects = 4;
   Real invRho0Squared_ = 0;
   std::vector<Vector3r> gradientSum_;  // (n fluid) g_i = sum_k m~_k grad W_ik
+  std::vector<Real> sampleFlux_;       // (n fluid) sum_k m~_k v_k . grad W_ik; empty where no sample moves
   std::vector<Real> diagonalTerm_;     // (n fluid) sum_k m_i m~_k |grad W_ik|^2 (consistent: times the squeeze)
   bool keepSqueeze_ = false;
   std::vector<Real> squeeze_;          // (n fluid) the squeeze, with keepSqueeze() only

@@ -144,6 +144,35 @@ TEST(BoundaryPressureTreatment, BoundaryAccelerationsFollowEqs16And33) {
   EXPECT_GT(mirroring.diagonalTerm(i), 0);
 }
 
+// Eq. (14)'s boundary part of the density rate, sum_k m~_k (v_i - v_k) . grad W_ik, from the
+// step's sums (v_i . g_i minus the samples' own part) as the pairs give it, for every fluid
+// particle over a wall: at rest, and sliding and rising under the fluid.
+TEST(BoundaryPressureTreatment, DensityRateFromTheStepsSumsIsEq14sBoundarySum) {
+  for (const Vector3r& wallVelocity : {Vector3r(0, 0, 0), Vector3r(Real(0.7), Real(0.3), Real(-0.2))}) {
+    test::StandaloneStep s(kRadius, kRho0);
+    makeWall(s, 3, 2 * kRadius);
+    for (auto& v : s.boundary.velocities) v = wallVelocity;
+    for (std::size_t i = 0; i < s.fluid.size(); ++i)
+      s.fluid.velocities[i] = Vector3r(Real(0.1) * Real(i % 7), -Real(0.5) + Real(0.05) * Real(i % 5), Real(0.02) * Real(i % 3));
+    BoundaryPressureTreatment t(BoundaryPressure::Consistent);
+    const StepContext ctx = s.context(Real(0.001));
+    t.beginStep(ctx);
+    std::size_t withWall = 0;
+    for (std::size_t i = 0; i < s.fluid.size(); ++i) {
+      Real pairs = 0, scale = 0;
+      for (Index e = s.boundaryNeighbors.begin(i); e < s.boundaryNeighbors.end(i); ++e) {
+        const Index k = s.boundaryNeighbors.indices[e];
+        const Real term = s.boundary.masses[k] * (s.fluid.velocities[i] - s.boundary.velocities[k]).dot(s.boundaryNeighbors.gradW[e]);
+        pairs += term;
+        scale += std::abs(term);
+      }
+      withWall += scale > 0;
+      EXPECT_NEAR(t.densityRate(i, s.fluid.velocities[i]), pairs, 1e-5 * scale) << "particle " << i;
+    }
+    EXPECT_GT(withWall, s.fluid.size() / 4);
+  }
+}
+
 // A thin cloud of fluid over a sample (a few particles left in a corner: not singular, but its
 // fit amplifies the pressures' spread hundreds of times) has its slope scaled down to
 // kMaxSlopeAmplification: p_k stays within that many spreads of the weighted average, where the
