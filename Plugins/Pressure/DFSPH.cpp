@@ -121,6 +121,9 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence, Real* largest) {
   const Real maxDrop = maxDensityDrop(ctx, rho0, settings_.overlapReliefSpeed);
   const Real relaxationTime = densityRelaxationTime(settings_.densityRelaxation, ctx);
   if (kPackedPairSums && !velocitiesPacked_) packed_.packVelocities(f), velocitiesPacked_ = true;
+  // The boundary's part from the step's gradient sums (one dot product per particle), unless the
+  // bodies' samples move between iterations: then over the pairs, with their velocities now.
+  const bool samplesFixed = !iteratesBodies(ctx);
   // The sum per range of the lists' balanced schedule, and the largest.
   struct Errors {
     double sum = 0;
@@ -130,8 +133,8 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence, Real* largest) {
       fn.work, n, Errors{}, [](Errors& into, const Errors& from) { into.sum += from.sum, into.largest = std::max(into.largest, from.largest); },
       [&](std::size_t i, Errors& acc) {
         // Eqs. (6), (14)
-        const Real drho = kPackedPairSums ? boundaryDensityRate(ctx, i, packedFluidDensityRate(ctx.paddedFluidNeighbors, i, packed_))
-                                          : densityRate(ctx, i);
+        const Real fluidRate = kPackedPairSums ? packedFluidDensityRate(ctx.paddedFluidNeighbors, i, packed_) : fluidDensityRate(ctx, i);
+        const Real drho = samplesFixed ? fluidRate + treatment_.densityRate(i, f.velocities[i]) : boundaryDensityRate(ctx, i, fluidRate);
         Real s;
         if (divergence) {
           // Only compression counts, and not at the free surface.
@@ -152,7 +155,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence, Real* largest) {
   return n ? Real(errors.sum / double(n)) : Real(0);
 }
 
-void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k, const std::vector<Real>* accumulated) {
+void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k, std::vector<Real>* accumulated) {
   const FluidView& f = ctx.fluid;
   const Real dt = ctx.dt;
   // Extrapolation: p_k from the pressures after this increment, p_j = (beta_j + k_j) rho_j^2;
@@ -172,6 +175,8 @@ void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k,
     dv += treatment_.acceleration(ctx, i, ki, ki * f.densities[i] * f.densities[i], pkChange);
     f.velocities[i] += dt * dv;
     if constexpr (kPackedPairSums) PackedParticles::setVelocity(&packed_.velocities[4 * i], f, i);
+    // Nothing in this loop reads the accumulated beta (the extrapolation read it above).
+    if (accumulated) (*accumulated)[i] += ki;
   });
   velocitiesPacked_ = kPackedPairSums;
 }
@@ -194,8 +199,6 @@ void DFSPH::beforeNonPressureForces(StepContext& ctx) {
   stats_ = PressureSolverStats();
   velocitiesPacked_ = false;  // the last step's solve and advection changed them
   computeDiagonal(ctx);
-  const FluidView& f = ctx.fluid;
-  const std::size_t n = f.size();
   divergenceDt_ = 0;
   if (!settings_.divergenceSolver) return;
   // The step size of this step is not chosen yet: the divergence solve runs with the last one.
@@ -205,8 +208,7 @@ void DFSPH::beforeNonPressureForces(StepContext& ctx) {
   Real error = computeSources(ctx, true);
   int it = 0;
   while ((error > settings_.maxErrorDivergence || it < 1) && it < settings_.maxIterationsDivergence) {
-    applyPressureIncrement(ctx, increment_, &divergenceBeta_);
-    parallelFor(n, [&](std::size_t i) { divergenceBeta_[i] += increment_[i]; });
+    applyPressureIncrement(ctx, increment_, &divergenceBeta_);  // and divergenceBeta_ += increment_
     letBodiesRespond(ctx, false);
     error = computeSources(ctx, true);
     ++it;
@@ -235,8 +237,7 @@ void DFSPH::solve(StepContext& ctx) {
   };
   int it = 0;
   while ((!converged() || it < settings_.minIterations) && it < settings_.maxIterations) {
-    applyPressureIncrement(ctx, increment_, &densityBeta_);
-    parallelFor(n, [&](std::size_t i) { densityBeta_[i] += increment_[i]; });
+    applyPressureIncrement(ctx, increment_, &densityBeta_);  // and densityBeta_ += increment_
     letBodiesRespond(ctx, true);
     error = computeSources(ctx, false, &largest);
     ++it;

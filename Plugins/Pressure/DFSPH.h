@@ -53,8 +53,9 @@ class DFSPH final : public PressureSolver {
   // single particle's in `largest` (density solve only).
   Real computeSources(StepContext& ctx, bool divergence, Real* largest = nullptr);
   // v_i -= dt (sum_j m_j (k_i + k_j) grad W_ij + boundary term), Eqs. (16)/(33); `accumulated`
-  // is the beta the velocities already carry (extrapolation fits p_k to accumulated + k).
-  void applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k, const std::vector<Real>* accumulated);
+  // is the beta the velocities already carry (extrapolation fits p_k to accumulated + k), and k
+  // is added to it in the same loop (one parallel region less per iteration).
+  void applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k, std::vector<Real>* accumulated);
   // The reaction per boundary pair of what the solves applied so far (Eq. 35): the divergence
   // solve's beta and p_k `divergenceP` over `divergenceDt` (0: none), and the density solve's
   // over ctx.dt when `withDensity`.
