@@ -16,8 +16,9 @@
 //   a_i^p,b = -sum_k m~_k (p_i / rho_i^2 + p_k / rho0^2) grad W_ik      (Eq. 16; Eq. 33: p_k = 0)
 // Consistent and mirroring have p_k = 0 or p_i, so the sum collapses to a coefficient times the
 // per-particle vector g_i = sum_k m~_k grad W_ik, computed once per step: the solvers' iterations
-// then never visit boundary neighbours. Extrapolation must visit them (p_k differs per k) and
-// additionally fits p_k once per iteration; that is its intrinsic extra cost.
+// then never visit boundary neighbours (nor for the density rate's boundary part, densityRate,
+// while the samples keep their velocities through the solve). Extrapolation must visit them (p_k
+// differs per k) and additionally fits p_k once per iteration; that is its intrinsic extra cost.
 //
 // Diagonal (documented choice): extrapolation uses the classical Eq. (15), like mirroring. The
 // extrapolated p_k depends on p_i through the MLS fit, and near a wall p_k ~ p_i, so the row of
