@@ -24,8 +24,9 @@ void BoundaryPressureTreatment::beginStep(const StepContext& ctx) {
   // pairs is skipped then (3 % of a particle-wall dam break's step, whose tank is one object).
   const bool severalObjects =
       (squeeze || keepSqueeze_) && parallelAny(b.size(), [&](std::size_t k) { return b.bodies[k] != b.bodies[0]; });
-  // The samples' part of the density rate (densityRate), only where some sample moves.
-  const bool movingSamples = parallelAny(b.size(), [&](std::size_t k) { return b.velocities[k] != Vector3r::Zero(); });
+  // The samples' part of the density rate (densityRate), only where it is read and some sample moves.
+  const bool movingSamples =
+      keepSampleFlux_ && parallelAny(b.size(), [&](std::size_t k) { return b.velocities[k] != Vector3r::Zero(); });
   sampleFlux_.resize(movingSamples ? n : 0);
   parallelFor(n, [&](std::size_t i) {
     Vector3r g = Vector3r::Zero();

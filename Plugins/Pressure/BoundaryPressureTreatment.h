@@ -60,6 +60,9 @@ class BoundaryPressureTreatment {
   // sample moves), so a solver's iterations visit no boundary neighbour for it either. Valid while
   // the samples keep the velocities they had at beginStep: a solver that moves them between its
   // iterations (BodyResponse) sums over the pairs instead (SphPressureTerms.h, boundaryDensityRate).
+  // Only after keepSampleFlux(), which asks every beginStep for the second sum (a solver that
+  // does not read the rate from here, WCSPH or IISPH, then pays no scan of the samples for it).
+  void keepSampleFlux() { keepSampleFlux_ = true; }
   Real densityRate(std::size_t i, const Vector3r& vi) const {
     return vi.dot(gradientSum_[i]) - (sampleFlux_.empty() ? Real(0) : sampleFlux_[i]);
   }
@@ -181,7 +184,8 @@ class BoundaryPressureTreatment {
   static constexpr int kSqueezeObjects = 4;
   Real invRho0Squared_ = 0;
   std::vector<Vector3r> gradientSum_;  // (n fluid) g_i = sum_k m~_k grad W_ik
-  std::vector<Real> sampleFlux_;       // (n fluid) sum_k m~_k v_k . grad W_ik; empty where no sample moves
+  bool keepSampleFlux_ = false;
+  std::vector<Real> sampleFlux_;       // (n fluid) sum_k m~_k v_k . grad W_ik; empty where no sample moves or not kept
   std::vector<Real> diagonalTerm_;     // (n fluid) sum_k m_i m~_k |grad W_ik|^2 (consistent: times the squeeze)
   bool keepSqueeze_ = false;
   std::vector<Real> squeeze_;          // (n fluid) the squeeze, with keepSqueeze() only

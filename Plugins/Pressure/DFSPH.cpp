@@ -69,6 +69,7 @@ DFSPH::DFSPH(const Params& p, FluidModel& fluid, BoundaryPressure treatment)
   if (settings_.minIterations > settings_.maxIterations)
     throw InputError(p.pathOf("minIterations") + ": must not exceed maxIterations");
   if (settings_.maxErrorParticle > 0) treatment_.keepSqueeze();  // closingGap_ (computeDiagonal)
+  treatment_.keepSampleFlux();  // computeSources' boundary part
 }
 
 void DFSPH::computeDiagonal(StepContext& ctx) {
