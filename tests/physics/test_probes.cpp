@@ -159,11 +159,14 @@ INSTANTIATE_TEST_SUITE_P(DISABLED_SideWallThreePercentHigh, RestingTank, ::testi
 // 9.8 % raw, wall layers 1.13 / 1.19 x (bench/RESULTS.md, docs/boundary-pressure.md).
 TEST(RestingTankWithVolumeMaps, WallLoadsMatchHydrostaticsAndRegionsAddUp) {
   json scene = tankScene("auto", "VolumeMap");
-  const double half = kWidth / 2;
+  // The halves meet at x = half: the right one starts at the next Real after it, so that no
+  // point in Real lies in both (half + 1e-12 is half itself in float, and a foot on the plane
+  // counted in both halves).
+  const double half = kWidth / 2, nextAfterHalf = double(std::nextafter(Real(half), Real(10)));
   scene["probes"].push_back({{"name", "left"}, {"kind", "force"}, {"boundary", "tank"},
                              {"region", {{"min", {-1, -1, -1}}, {"max", {half, 10, 10}}}}});
   scene["probes"].push_back({{"name", "right"}, {"kind", "force"}, {"boundary", "tank"},
-                             {"region", {{"min", {half + 1e-12, -1, -1}}, {"max", {10, 10, 10}}}}});
+                             {"region", {{"min", {nextAfterHalf, -1, -1}}, {"max", {10, 10, 10}}}}});
   // The wall x = 0 from the bottom: the tank's walls are maps of their own, slabs whose inner
   // faces the surface offset moves 1.36 r into the solid, so the wall's face reaches down to the
   // floor's at y = -1.36 r, and the push of the lowest layers lands there. The particle walls'
