@@ -153,7 +153,7 @@ class VolumeMapBoundary_Bender2019 final : public BoundaryModel {
     Index body, piece;
   };
   std::vector<std::vector<VirtualParticle>> chunkScratch_;
-  WorkPartition work_;  // findNeighbors' ranges of fluid particles, one per thread
+  WorkPartition work_;  // findNeighbors' ranges of fluid particles (workChunkCount())
   std::vector<char> moving_;          // per object: dynamic or animated
   std::vector<ObjectPose> poses_;     // per object; identity for static ones
 };

@@ -274,7 +274,7 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
   else
     out.kernelSums.clear();  // no stale sums from an earlier call
   out.offsets[0] = 0;
-  const std::size_t chunks = parallelChunkCount();
+  const std::size_t chunks = workChunkCount();
   // Per-chunk buffers live in `out`, so steady-state steps allocate nothing.
   out.scratchIndices.resize(chunks);
   out.scratchGradW.resize(chunks);

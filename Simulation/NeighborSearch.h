@@ -34,15 +34,16 @@ struct NeighborLists {
   // the listed j, after w_i W(0) for a search of a set against itself (a density, Eq. 14's
   // fluid part, with w = m).
   std::vector<Real> kernelSums;
-  // The queries split into one range per thread with about equal shares of pairs (plus a fixed
-  // cost per query): the schedule of the loops over these lists (parallelFor(work, n, f)).
+  // The queries split into a few ranges per thread (workChunkCount()) with about equal shares of
+  // pairs (plus a fixed cost per query): the schedule of the loops over these lists
+  // (parallelFor(work, n, f)).
   WorkPartition work;
-  // Per-thread scratch of the build, kept so that steady-state steps allocate nothing.
+  // Per-range scratch of the build, kept so that steady-state steps allocate nothing.
   std::vector<std::vector<Index>> scratchIndices;
   std::vector<std::vector<Vector3r>> scratchGradW;
   std::vector<std::vector<Real>> scratchGradFactors;
-  std::vector<std::vector<Index>> scratchAccepted;  // per thread: the accepted candidates of one query
-  std::vector<std::vector<Real>> scratchDistances, scratchKernelValues, scratchKernelFactors;  // per thread: theirs |x_ij|, W, gradFactor
+  std::vector<std::vector<Index>> scratchAccepted;  // per range: the accepted candidates of one query
+  std::vector<std::vector<Real>> scratchDistances, scratchKernelValues, scratchKernelFactors;  // per range: theirs |x_ij|, W, gradFactor
 
   std::size_t queryCount() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   Index begin(std::size_t i) const { return offsets[i]; }

@@ -18,7 +18,8 @@
 //                                  shares of a per-index cost (a particle's neighbour pairs), for
 //                                  the loops over neighbour lists (a particle at the free surface
 //                                  has a fraction of the bulk's pairs; a dam break's first half of
-//                                  Z-sorted particles held up to 1.3x the pairs of its second)
+//                                  Z-sorted particles held up to 1.3x the pairs of its second),
+//                                  a few ranges per thread, taken as the threads come for them
 //   parallelChunks(n, body)        body(chunk, begin, end) once per thread over its contiguous
 //                                  chunk [begin, end) of [0, n), the chunks of parallelFor's static
 //                                  schedule, chunk = 0 .. parallelChunkCount() - 1 in index order:
@@ -73,6 +74,22 @@ void parallelForDynamic(std::size_t n, F&& f, std::size_t chunk = 256) {
 }
 
 // How many chunks parallelChunks may hand out: one per thread a parallel region may have.
+// How many ranges a WorkPartition cuts for the loops over neighbour lists: kRangesPerThread per
+// thread, which forEachChunk hands out as the threads come for them. A thread that runs slower
+// (this VM's two vCPUs do not run alike, and the host takes one away now and then) then takes
+// fewer ranges instead of keeping the other waiting at the loop's barrier. On 2 threads, libgomp
+// held 10-13 % of a float dam break's samples (particle walls, r = 0.025) with one range per
+// thread, 9-11 % with four, 6 % with eight, 5 % with sixteen (bench/RESULTS.md, "Ranges taken as
+// the threads come").
+inline constexpr std::size_t kRangesPerThread = 8;
+inline std::size_t workChunkCount() {
+#ifdef _OPENMP
+  return kRangesPerThread * std::size_t(omp_get_max_threads());
+#else
+  return 1;
+#endif
+}
+
 inline std::size_t parallelChunkCount() {
 #ifdef _OPENMP
   return std::size_t(omp_get_max_threads());
@@ -173,15 +190,17 @@ bool parallelAny(std::size_t n, Pred&& pred) {
   });
 }
 
-// [0, n) cut into one contiguous range per thread, each holding about an equal share of a cost
-// per index: a static schedule for loops whose iterations cost unevenly in a way known before the
-// loop (a particle's neighbour pairs). In a Z-sorted dam break at r = 0.025 the first half of the
-// particles held 1.03-1.30x the pairs of the second half over its first second (counted), so an
-// equal split leaves one thread up to 13 % more pairs in every loop over the lists while the other
-// waits at the barrier; more threads cut the sorted order into smaller, more uneven pieces. (On
-// the 2-core VM the wall time did not move beyond its noise: bench/RESULTS.md, "Pair gradients as
-// factors, loops balanced by pairs".) A dynamic schedule would balance too, at a cost per chunk
-// that measured slower. Deterministic: the ranges depend on the costs and the thread count only.
+// [0, n) cut into contiguous ranges (workChunkCount(): a few per thread), each holding about an
+// equal share of a cost per index, for loops whose iterations cost unevenly in a way known before
+// the loop (a particle's neighbour pairs). In a Z-sorted dam break at r = 0.025 the first half of
+// the particles held 1.03-1.30x the pairs of the second half over its first second (counted), so
+// an equal split leaves one thread up to 13 % more pairs in every loop over the lists while the
+// other waits at the barrier. Equal shares alone did not move the 2-core VM's wall time beyond its
+// noise (bench/RESULTS.md, "Pair gradients as factors, loops balanced by pairs"): its threads do
+// not run at one speed, so the ranges are handed out as the threads come for them (forEachChunk).
+// A dynamic schedule over single particles measured slower (a cost per chunk); over a few ranges
+// per thread it costs one atomic fetch per range. Deterministic: the ranges depend on the costs
+// and the thread count only, and a reduction joins them in range order.
 class WorkPartition {
  public:
   // Ranges for `chunks` threads over [0, n), cut where the cumulative cost, cumulative(i) = the
@@ -216,17 +235,15 @@ class WorkPartition {
 };
 
 namespace parallel_detail {
-// body(chunk, begin, end) for every chunk of `work`, each thread of the team taking chunks
-// t, t + team, ... (one each when the team is as large as the partition).
+// body(chunk, begin, end) for every chunk of `work`, each thread of the team taking the next
+// chunk when it is done with its last (a dynamic schedule over the chunks: which thread runs a
+// chunk changes from run to run, what the chunk computes does not).
 template <class Body>
 void forEachChunk(const WorkPartition& work, Body&& body) {
   const std::size_t chunks = work.chunks();
 #ifdef _OPENMP
-#pragma omp parallel
-  {
-    const std::size_t team = std::size_t(omp_get_num_threads());
-    for (std::size_t c = std::size_t(omp_get_thread_num()); c < chunks; c += team) body(c, work.begin(c), work.end(c));
-  }
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::size_t c = 0; c < chunks; ++c) body(c, work.begin(c), work.end(c));
 #else
   for (std::size_t c = 0; c < chunks; ++c) body(c, work.begin(c), work.end(c));
 #endif
