@@ -1,7 +1,7 @@
 // Time per listed neighbour pair of the sums the solvers run over the fluid lists, on one thread,
 // and of building those lists (the search, the padded copy): the one-pair-at-a-time forms, the forms over blocks of pairs (Plugins/Pressure/PackedPairSums.h,
-// Plugins/Viscosity/ViscosityLaplacian.h; their packing of slots included) and a rewrite that was
-// tried. Decisions of a few per cent need this: whole dam-break runs on the shared VM drift by
+// Plugins/Viscosity/ViscosityLaplacian.h; their packing of slots included) and rewrites that were
+// tried or replaced. Decisions of a few per cent need this: whole dam-break runs on the shared VM drift by
 // 10-20 % between runs, and the VM's clock by a factor two within seconds. Every variant runs
 // over the same lists, interleaved, and the fastest of the repetitions counts (use hundreds).
 // A checksum (the sum over particles) is printed per variant; the per-particle agreement of the
@@ -44,6 +44,38 @@ Real rateFactored(const StepContext& ctx, std::size_t i) {
     rate += (f.masses[j] * fn.gradFactors[e]) * (vi - f.velocities[j]).dot(xi - f.positions[j]);
   }
   return rate;
+}
+
+// The density rate from two slots per pair, (x_j, 0) and (v_j, m_j), as PackedPairSums.h had it
+// before it took one (m_j v_j, m_j (x_j - o) . v_j).
+Real rateTwoSlots(const PaddedNeighborLists& fn, std::size_t i, const Real* xs, const Real* vs) {
+  const Index end = fn.end(i);
+#if defined(CONSPH_SIMD_AVX2)
+  using L = simd::Lanes<Real>;
+  using V = L::V;
+  const V xi = L::set1(xs[4 * i]), yi = L::set1(xs[4 * i + 1]), zi = L::set1(xs[4 * i + 2]);
+  const V vxi = L::set1(vs[4 * i]), vyi = L::set1(vs[4 * i + 1]), vzi = L::set1(vs[4 * i + 2]);
+  V rate = L::zero();
+  for (Index e = fn.begin(i); e < end; e += kPairBlock) {
+    V x, y, z, unused, vx, vy, vz, m;
+    L::transpose(xs, &fn.indices[e], x, y, z, unused);
+    L::transpose(vs, &fn.indices[e], vx, vy, vz, m);
+    V dot = L::mul(L::sub(xi, x), L::sub(vxi, vx));
+    dot = L::fmadd(L::sub(yi, y), L::sub(vyi, vy), dot);
+    dot = L::fmadd(L::sub(zi, z), L::sub(vzi, vz), dot);
+    rate = L::fmadd(L::mul(m, L::load(&fn.gradFactors[e])), dot, rate);
+  }
+  return L::sum(rate);
+#else
+  Real rate = 0;
+  for (Index e = fn.begin(i); e < end; ++e) {
+    const std::size_t j = 4 * std::size_t(fn.indices[e]);
+    Real dot = 0;
+    for (int c = 0; c < 3; ++c) dot += (xs[4 * i + c] - xs[j + c]) * (vs[4 * i + c] - vs[j + c]);
+    rate += vs[j + 3] * fn.gradFactors[e] * dot;
+  }
+  return rate;
+#endif
 }
 
 struct Variant {
@@ -111,6 +143,7 @@ int main(int argc, char** argv) {
     Real squares = 0;
     fluidDiagonalSums(ctx, i, massGradientSums[i], squares);
   }
+  std::vector<Real> velocitySlots;
   PointGrid searchGrid;
   NeighborLists searched;
   std::vector<Variant> variants = {
@@ -130,9 +163,16 @@ int main(int argc, char** argv) {
        }},
       {"density rate, scalar (SphPressureTerms.h)", [&] { return sumOf([&](std::size_t i) { return fluidDensityRate(ctx, i); }); }},
       {"density rate, scalar, m_j W'/r first", [&] { return sumOf([&](std::size_t i) { return rateFactored(ctx, i); }); }},
-      {"density rate, packed (PackedPairSums.h), with packing the velocities", [&] {
-         packed.packVelocities(ctx.fluid);
-         return sumOf([&](std::size_t i) { return packedFluidDensityRate(padded, i, packed); });
+      {"density rate, packed from two slots per pair (x_j; v_j, m_j), with packing the velocities", [&] {
+         packSlots(velocitySlots, n, [&](std::size_t j, Real* slot) {
+           for (int c = 0; c < 3; ++c) slot[c] = fluid.velocities[j][c];
+           slot[3] = fluid.masses[j];
+         });
+         return sumOf([&](std::size_t i) { return rateTwoSlots(padded, i, packed.positions.data(), velocitySlots.data()); });
+       }},
+      {"density rate, packed from one slot per pair (PackedPairSums.h), with packing the momenta", [&] {
+         packed.packMomenta(ctx.fluid);
+         return sumOf([&](std::size_t i) { return packedFluidDensityRate(padded, i, packed, ctx.fluid, massGradientSums[i]); });
        }},
       {"pressure acceleration, scalar (SphPressureTerms.h)",
        [&] { return sumOf([&](std::size_t i) { return fluidPressureAcceleration(ctx, i, beta).sum(); }); }},
@@ -153,10 +193,13 @@ int main(int argc, char** argv) {
            for (int c = 0; c < 3; ++c) slot[c] = fluid.positions[j][c];
            slot[3] = fluid.masses[j] / fluid.densities[j];
          });
-         packed.packVelocities(ctx.fluid);
+         packSlots(velocitySlots, n, [&](std::size_t j, Real* slot) {
+           for (int c = 0; c < 3; ++c) slot[c] = fluid.velocities[j][c];
+           slot[3] = fluid.masses[j];
+         });
          return sumOf([&](std::size_t i) {
            Real rate[6] = {0, 0, 0, 0, 0, 0};
-           return viscosity::packedFluidSumWithRate(padded, i, viscousSlots.data(), packed.velocities.data(), eps, rate).sum() + rate[0];
+           return viscosity::packedFluidSumWithRate(padded, i, viscousSlots.data(), velocitySlots.data(), eps, rate).sum() + rate[0];
          });
        }},
       {"viscous sum of a field (Weiler 2018's operator), scalar", [&] {

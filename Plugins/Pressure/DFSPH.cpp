@@ -78,7 +78,8 @@ void DFSPH::computeDiagonal(StepContext& ctx) {
   treatment_.beginStep(ctx);
   const std::size_t n = ctx.fluid.size();
   // The slots of this step's packed pair sums (PackedPairSums.h): positions stay fixed through
-  // both solves, and so does the fluid's gradient sum G_i of the pressure term.
+  // both solves, and so does the fluid's gradient sum G_i (of the pressure term and the density
+  // rate).
   if constexpr (kPackedPairSums) {
     ctx.paddedFluidNeighbors.expectBuiltFor(n, "DFSPH");
     packed_.packPositions(ctx.fluid);
@@ -121,7 +122,7 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence, Real* largest) {
   const std::size_t n = f.size();
   const Real maxDrop = maxDensityDrop(ctx, rho0, settings_.overlapReliefSpeed);
   const Real relaxationTime = densityRelaxationTime(settings_.densityRelaxation, ctx);
-  if (kPackedPairSums && !velocitiesPacked_) packed_.packVelocities(f), velocitiesPacked_ = true;
+  if (kPackedPairSums && !velocitiesPacked_) packed_.packMomenta(f), velocitiesPacked_ = true;
   // The boundary's part from the step's gradient sums (one dot product per particle), unless the
   // bodies' samples move between iterations: then over the pairs, with their velocities now.
   const bool samplesFixed = !iteratesBodies(ctx);
@@ -134,7 +135,8 @@ Real DFSPH::computeSources(StepContext& ctx, bool divergence, Real* largest) {
       fn.work, n, Errors{}, [](Errors& into, const Errors& from) { into.sum += from.sum, into.largest = std::max(into.largest, from.largest); },
       [&](std::size_t i, Errors& acc) {
         // Eqs. (6), (14)
-        const Real fluidRate = kPackedPairSums ? packedFluidDensityRate(ctx.paddedFluidNeighbors, i, packed_) : fluidDensityRate(ctx, i);
+        const Real fluidRate =
+            kPackedPairSums ? packedFluidDensityRate(ctx.paddedFluidNeighbors, i, packed_, f, massGradientSums_[i]) : fluidDensityRate(ctx, i);
         const Real drho = samplesFixed ? fluidRate + treatment_.densityRate(i, f.velocities[i]) : boundaryDensityRate(ctx, i, fluidRate);
         Real s;
         if (divergence) {
@@ -166,7 +168,7 @@ void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k,
   const std::vector<Real>& pkChange = treatment_.boundaryPressureChanges();
   if constexpr (kPackedPairSums) {
     packed_.packPressures(f, k.data());
-    packed_.velocities.resize(4 * f.size());  // every slot is written below
+    packed_.momenta.resize(4 * f.size());  // every slot is written below
   }
   parallelFor(ctx.fluidNeighbors.work, f.size(), [&](std::size_t i) {
     const Real ki = k[i];
@@ -175,7 +177,7 @@ void DFSPH::applyPressureIncrement(StepContext& ctx, const std::vector<Real>& k,
     // Boundary: Eq. (33) (consistent) or Eq. (16) (mirroring, extrapolation).
     dv += treatment_.acceleration(ctx, i, ki, ki * f.densities[i] * f.densities[i], pkChange);
     f.velocities[i] += dt * dv;
-    if constexpr (kPackedPairSums) PackedParticles::setVelocity(&packed_.velocities[4 * i], f, i);
+    if constexpr (kPackedPairSums) packed_.setMomentum(&packed_.momenta[4 * i], f, i);
     // Nothing in this loop reads the accumulated beta (the extrapolation read it above).
     if (accumulated) (*accumulated)[i] += ki;
   });

@@ -83,9 +83,9 @@ class DFSPH final : public PressureSolver {
   // The slots the fluid sums of every iteration read (PackedPairSums.h), packed by computeDiagonal
   // (positions), applyPressureIncrement (m_j beta_j, and the velocities it changes) or
   // computeSources (the velocities, when no increment has written them since the forces); and
-  // G_i = sum_j m_j grad W_ij of the pressure term, from computeDiagonal.
+  // G_i = sum_j m_j grad W_ij of the pressure term and the density rate, from computeDiagonal.
   PackedParticles packed_;
-  bool velocitiesPacked_ = false;  // packed_.velocities hold the fluid's velocities
+  bool velocitiesPacked_ = false;  // packed_.momenta hold the fluid's velocities
   std::vector<Vector3r> massGradientSums_;
   BoundaryPressureTreatment treatment_;
   Real divergenceDt_ = 0;                 // the time step the divergence solve of this step used
