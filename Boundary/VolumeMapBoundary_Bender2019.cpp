@@ -475,7 +475,7 @@ void VolumeMapBoundary_Bender2019::findNeighbors(const FluidModel& fluid, const 
   // the buffers are then copied into the CSR arrays in chunk order. A count pass and a fill pass
   // would sample every map twice per particle.
   chunkScratch_.resize(chunks);
-  for (auto& found : chunkScratch_) found.clear();  // a chunk a smaller team leaves out copies nothing
+  for (auto& found : chunkScratch_) found.clear();  // no earlier call's particles reach the copy below
   std::vector<std::size_t> chunkBegin(chunks, n);
   parallelChunks(work_, [&](std::size_t t, std::size_t begin, std::size_t end) {
     chunkBegin[t] = begin;

@@ -287,7 +287,8 @@ void buildNeighborLists(const PointGrid& grid, const Vector3r* queries, std::siz
   // The ranges of the last build's balance while the queries are the same ones (their pairs
   // change little from step to step), equal ones otherwise.
   if (out.work.size() != n || out.work.chunks() != chunks) out.work.balance(n, chunks, [](std::size_t i) { return i; });
-  // A chunk a smaller team leaves out must not copy an earlier call's lists.
+  // No chunk's buffer may carry an earlier call's lists into the copy below (every chunk runs and
+  // clears its own; this guards the copy should one not run).
   for (std::size_t t = 0; t < chunks; ++t) out.scratchIndices[t].clear(), out.scratchGradW[t].clear(), out.scratchGradFactors[t].clear();
   const Real h2 = h * h;
   constexpr std::size_t kNoSelf = ~std::size_t(0);  // no candidate has this slot

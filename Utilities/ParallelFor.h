@@ -73,12 +73,11 @@ void parallelForDynamic(std::size_t n, F&& f, std::size_t chunk = 256) {
   for (std::size_t i = 0; i < n; ++i) f(i);
 }
 
-// How many chunks parallelChunks may hand out: one per thread a parallel region may have.
 // How many ranges a WorkPartition cuts for the loops over neighbour lists: kRangesPerThread per
 // thread, which forEachChunk hands out as the threads come for them. A thread that runs slower
 // (this VM's two vCPUs do not run alike, and the host takes one away now and then) then takes
 // fewer ranges instead of keeping the other waiting at the loop's barrier. On 2 threads, libgomp
-// held 10-13 % of a float dam break's samples (particle walls, r = 0.025) with one range per
+// held 10-14 % of a float dam break's samples (particle walls, r = 0.025) with one range per
 // thread, 9-11 % with four, 6 % with eight, 5 % with sixteen (bench/RESULTS.md, "Ranges taken as
 // the threads come").
 inline constexpr std::size_t kRangesPerThread = 8;
@@ -90,6 +89,7 @@ inline std::size_t workChunkCount() {
 #endif
 }
 
+// How many chunks parallelChunks may hand out: one per thread a parallel region may have.
 inline std::size_t parallelChunkCount() {
 #ifdef _OPENMP
   return std::size_t(omp_get_max_threads());
@@ -203,7 +203,7 @@ bool parallelAny(std::size_t n, Pred&& pred) {
 // and the thread count only, and a reduction joins them in range order.
 class WorkPartition {
  public:
-  // Ranges for `chunks` threads over [0, n), cut where the cumulative cost, cumulative(i) = the
+  // `chunks` ranges over [0, n), cut where the cumulative cost, cumulative(i) = the
   // cost of [0, i) (non-decreasing, cumulative(0) = 0), crosses each equal share.
   template <class Cumulative>
   void balance(std::size_t n, std::size_t chunks, Cumulative&& cumulative) {
