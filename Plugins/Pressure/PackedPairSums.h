@@ -15,11 +15,11 @@
 // deterministic and independent of the thread count.
 #pragma once
 #include <cstddef>
-#include <limits>
 #include <vector>
 
 #include "Simulation/PaddedNeighborLists.h"
 #include "Simulation/ParticleView.h"
+#include "Utilities/AxisAlignedBox.h"
 #include "Utilities/SimdLanes.h"
 
 namespace consph {
@@ -38,14 +38,9 @@ struct PackedParticles {
     packSlots(positions, f.size(), [&](std::size_t i, Real* s) {
       s[0] = f.positions[i][0], s[1] = f.positions[i][1], s[2] = f.positions[i][2], s[3] = 0;
     });
-    struct Box {
-      Vector3r lo, hi;
-    };
-    const Vector3r big = Vector3r::Constant(std::numeric_limits<Real>::max());
-    const Box box = parallelReduce(
-        f.size(), Box{big, -big}, [](Box& into, const Box& from) { into.lo = into.lo.cwiseMin(from.lo), into.hi = into.hi.cwiseMax(from.hi); },
-        [&](std::size_t i, Box& b) { b.lo = b.lo.cwiseMin(f.positions[i]), b.hi = b.hi.cwiseMax(f.positions[i]); });
-    origin = f.size() ? Vector3r(Real(0.5) * (box.lo + box.hi)) : Vector3r::Zero();
+    if (f.size() == 0) return;
+    const PointBox box = boxOfPoints(f.positions.data(), f.size());
+    origin = Real(0.5) * (box.lo + box.hi);
   }
   // m_j beta_j: before every pressure pass (a gather of beta_j in the loop, instead, waited
   // ~20 cycles per block: a quarter of the pass's samples sat behind it).
