@@ -9,7 +9,7 @@
 // arithmetic or breaking the sum's dependency chain gained under 10 %. Measured on one thread
 // (bench/pair_loops.cpp; bench/RESULTS.md, "Packed pair sums"): density rate 1.9 -> 1.4 ns per
 // listed pair, pressure term 1.6 -> 1.3, packing and padding included; the density rate from one
-// slot per pair (below) 1.47 -> 1.02 (bench/RESULTS.md, "The density rate from one slot per pair").
+// slot per pair (below) 1.43 -> 0.82 (bench/RESULTS.md, "... the density rate from one slot per pair").
 // The lanes sum in another order than the scalar loops, so the results differ from
 // SphPressureTerms.h's in the last bits (tests/unit/test_packed_pair_sums.cpp); every order is
 // deterministic and independent of the thread count.
@@ -61,12 +61,13 @@ struct PackedParticles {
 // sum_j m_j (v_i - v_j) . grad W_ij over i's fluid neighbours (packMomenta first), given
 // G_i = sum_j m_j grad W_ij (massGradientSum). With x_ij = x_i - x_j and grad W_ij = x_ij f_ij,
 //   sum_j m_j f_ij x_ij . (v_i - v_j) = v_i . G_i - (x_i - o) . sum_j f_ij m_j v_j + sum_j f_ij m_j (x_j - o) . v_j,
-// so a pair reads one slot, (m_j v_j, m_j (x_j - o) . v_j), instead of two (x_j and v_j): 1.47 ->
-// 1.02 ns per pair on one thread (bench/pair_loops.cpp). The price is round-off: the two sums are
+// so a pair reads one slot, (m_j v_j, m_j (x_j - o) . v_j), instead of two (x_j and v_j): 1.43 ->
+// 0.82 ns per pair on one thread (bench/pair_loops.cpp). The price is round-off: the two sums are
 // of size |x - o| |v| where the pair form's terms are of size |x_ij| |v_ij|, so the difference
-// carries about (extent / h) (|v| / |v_ij|) units of round-off of the terms (float: at r = 0.0125
-// in DamBreak, ~3e-5 of the terms' magnitudes, ~1e-4 kg/m^3/s in the divergence solve against its
-// tolerance of ~500; tests/unit/test_packed_pair_sums.cpp bounds it on every particle).
+// carries about (extent / h) (|v| / |v_ij|) units of round-off of the terms (float, measured: at
+// most 0.06 kg/m^3/s in a heavy box's landing through water, 1.2e-7 rho0 over its 2 ms step,
+// against the density solve's tolerance of 1e-4 rho0; tests/unit/test_packed_pair_sums.cpp bounds
+// it on every particle; bench/RESULTS.md, "... the density rate from one slot per pair").
 inline Real packedFluidDensityRate(const PaddedNeighborLists& fn, std::size_t i, const PackedParticles& p, const FluidView& f,
                                    const Vector3r& massGradientSum) {
   const Real* ms = p.momenta.data();
