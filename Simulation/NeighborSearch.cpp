@@ -408,8 +408,7 @@ std::uint64_t spreadBits(std::uint64_t v) {  // 21 bits -> every third bit
 std::vector<Index> zOrderPermutation(const Vector3r* points, std::size_t n, Real cellSize) {
   std::vector<Index> order(n);
   if (n == 0) return order;
-  Vector3r lo = points[0];
-  for (std::size_t i = 1; i < n; ++i) lo = lo.cwiseMin(points[i]);
+  const Vector3r lo = boxOfPoints(points, n).lo;
   std::vector<std::pair<std::uint64_t, Index>> keyed(n);
   const Real inv = Real(1) / cellSize;
   parallelFor(n, [&](std::size_t i) {
